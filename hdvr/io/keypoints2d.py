@@ -23,6 +23,7 @@ import numpy as np
 
 from hdvr.errors import HDVRError
 from hdvr.io.atomic import save_npz_atomic
+from hdvr.io.npz import open_npz
 from hdvr.layouts import BODY25, BODY25_NAMES, COCO17_NAMES, Layout, convert, guess_layout
 
 KEYPOINTS2D_KEYS = ("keypoints", "joint_names", "fps", "image_size")
@@ -84,26 +85,12 @@ def save_keypoints2d(path: str | os.PathLike, kp: Keypoints2D) -> None:
                     fps=np.float64(kp.fps), image_size=np.array(kp.image_size, dtype=np.int64))
 
 
-def _open_npz(path: str | os.PathLike, required: tuple[str, ...], what: str):
-    p = Path(path)
-    if not p.is_file():
-        raise HDVRError(f"{what} file not found: {p}")
-    try:
-        data = np.load(p, allow_pickle=False)
-    except Exception as exc:  # zipfile.BadZipFile, ValueError, OSError ...
-        raise HDVRError(f"cannot read {what} file {p}: not a valid NPZ ({type(exc).__name__})") from None
-    missing = [k for k in required if k not in data.files]
-    if missing:
-        raise HDVRError(f"{what} file {p} lacks keys {missing} (has {sorted(data.files)})")
-    return data
-
-
 def load_keypoints2d(path: str | os.PathLike, require_visible: bool = True) -> Keypoints2D:
     """Read a 2D keypoint NPZ; raise :class:`HDVRError` naming the problem if it is malformed.
 
     With ``require_visible`` a file where no keypoint is visible (all NaN / confidence 0) is an error.
     """
-    data = _open_npz(path, KEYPOINTS2D_KEYS, "2D keypoint")
+    data = open_npz(path, KEYPOINTS2D_KEYS, "2D keypoint")
     kp = Keypoints2D(data["keypoints"], tuple(data["joint_names"].tolist()), float(data["fps"]),
                      tuple(int(v) for v in data["image_size"]))
     if kp.num_frames == 0:
