@@ -3,16 +3,17 @@
 NPZ keys (fixed):
 
 - ``keypoints3d``          float32 (T, 25, 3): BODY_25 keypoints, metres, camera frame (x right, y down, z forward).
-- ``qpos``                 float64 (T, 41): dancer configuration in the camera-aligned world used by the fit
-                           (see :mod:`hdvr.skeleton`; hinges in DH-row order).
+- ``qpos``                 float64 (T, 41): dancer configuration in the dancer world (x forward at identity root,
+                           z up, floor at z = 0; see :mod:`hdvr.skeleton`, hinges in DH-row order).
 - ``joint_names``          str (25,): BODY_25 names.
 - ``focal``                float64 (T,): focal length per frame, pixels.
 - ``principal_point``      float64 (T, 2): pixels.
 - ``bone_lengths``         float64 (9,): metres, order :data:`hdvr.dh.BONE_NAMES`.
 - ``reprojection_error_px`` float64 (T,): mean distance between projected and observed visible keypoints, pixels.
 
-Optional keys: ``fps`` (float), ``camera_rotation`` (3, 3) and ``camera_centre`` (3,) mapping the dancer world to
-the camera (``P_cam = R (P_world - C)``), ``meta`` (JSON string with settings and plausibility figures).
+Further keys (written always, optional on reading): ``fps`` (float), ``camera_rotation`` (3, 3) and
+``camera_centre`` (3,) mapping the dancer world to the camera (``P_cam = R (P_world - C)``, so
+``keypoints3d = R (world keypoints of qpos - C)``), ``meta`` (JSON string: settings, plausibility figures).
 """
 
 from __future__ import annotations
