@@ -255,7 +255,7 @@ def build_mjcf(height_m: float = dh.DEFAULT_HEIGHT_M, mass_kg: float = DEFAULT_M
         "  </asset>",
         "  <worldbody>",
         '    <light name="key" pos="2 -2 4" dir="-0.5 0.5 -1" directional="true" diffuse="0.6 0.6 0.6"/>',
-        '    <geom name="floor" type="plane" size="10 10 0.05" material="floor_mat"/>',
+        '    <geom name="floor" type="plane" size="10 10 0.05" material="floor_mat" rgba="1 1 1 1"/>',
     ]
 
     def emit(name: str, indent: int) -> None:

@@ -146,3 +146,41 @@ def test_two_seconds_of_simulation_stay_finite():
         mujoco.mj_step(sk.model, d)
     assert np.isfinite(d.qpos).all() and np.isfinite(d.qvel).all()
     assert d.qpos[2] > 0.0 and np.abs(d.qvel).max() < 100.0
+
+
+def test_documented_joint_signs(sk):
+    """A positive angle does what hdvr.dh.JOINTS says, measured on keypoints from the rest pose."""
+    idx = {n: i for i, n in enumerate(BODY25_NAMES)}
+
+    def moved(joint, angle, keypoint):
+        q = sk.rest_qpos()
+        before = sk.keypoints(q)[idx[keypoint]]
+        q[7 + dh.JOINT_NAMES.index(joint)] += angle
+        return sk.keypoints(q)[idx[keypoint]] - before
+
+    assert moved("lumbar_flex", 0.3, "neck")[0] > 0.05  # forward
+    assert moved("lumbar_bend", 0.3, "neck")[1] < -0.05  # to the right (-y)
+    assert moved("lumbar_twist", 0.3, "left_shoulder")[0] < -0.01  # left shoulder goes back: turns left
+    assert moved("left_shoulder_flex", 1.0, "left_wrist")[0] > 0.3  # arm raises forward
+    assert moved("left_shoulder_abduct", 0.8, "left_wrist")[1] > 0.2  # away from the body
+    assert moved("right_shoulder_abduct", 0.8, "right_wrist")[1] < -0.2
+    assert moved("left_elbow_flex", -1.2, "left_wrist")[0] > 0.15  # elbow flexes forward
+    assert moved("right_knee_flex", 1.0, "right_ankle")[0] < -0.15  # shank moves back
+    assert moved("left_hip_extend", -1.0, "left_knee")[0] > 0.15  # negative: forward kick
+    assert moved("right_hip_adduct", -0.6, "right_ankle")[1] < -0.1  # negative: abduction (outward)
+    assert moved("right_ankle_plantarflex", 0.8, "right_big_toe")[2] < -0.02  # toes down
+    assert moved("neck_twist", 0.5, "nose")[1] > 0.03  # head turns left
+    assert moved("head_nod", 0.4, "nose")[2] < -0.02  # nods forward/down
+
+
+def test_humeral_rotation_sign(sk):
+    """With the elbow flexed 90 deg, a positive shoulder rotation swings the forearm toward the midline."""
+    q = sk.rest_qpos()
+    q[7 + dh.JOINT_NAMES.index("left_elbow_flex")] = -np.pi / 2
+    q[7 + dh.JOINT_NAMES.index("right_elbow_flex")] = -np.pi / 2
+    wrists = [BODY25_NAMES.index("left_wrist"), BODY25_NAMES.index("right_wrist")]
+    before = sk.keypoints(q)[wrists]
+    q[7 + dh.JOINT_NAMES.index("left_shoulder_rotate")] += 0.5
+    q[7 + dh.JOINT_NAMES.index("right_shoulder_rotate")] += 0.5
+    after = sk.keypoints(q)[wrists]
+    assert after[0, 1] < before[0, 1] - 0.05 and after[1, 1] > before[1, 1] + 0.05
