@@ -103,3 +103,23 @@ def test_training_reduces_error_and_checkpoint_round_trip(tmp_path):
     np.testing.assert_allclose(lift_sequence(loaded, test.inputs), lift_sequence(model, test.inputs), atol=1e-5)
     with pytest.raises(HDVRError):
         load_checkpoint(tmp_path / "missing.pt")
+
+
+def test_lift_cli_train_and_apply(tmp_path):
+    from hdvr.cli import main
+    from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
+    from hdvr.io.result3d import Result3D, load_result3d, save_result3d
+
+    clip = _toy_clips(1, frames=60)
+    px = clip.inputs.copy()
+    px[..., :2] = px[..., :2] * 1000.0 + np.array([640, 360])
+    save_keypoints2d(tmp_path / "kp.npz", Keypoints2D(px, BODY25_NAMES, 30.0, (1280, 720)))
+    q = np.zeros((60, 41))
+    q[:, 3] = 1
+    save_result3d(tmp_path / "fit.npz", Result3D(clip.fit3d, q, 1000.0, (640, 360), np.ones(9), np.zeros(60)))
+    assert main(["lift", "train", "--pair", str(tmp_path / "kp.npz"), str(tmp_path / "fit.npz"),
+                 "--out", str(tmp_path / "m.pt"), "--epochs", "2", "--small", "--device", "cpu"]) == 0
+    assert main(["lift", "apply", str(tmp_path / "kp.npz"), "--fit", str(tmp_path / "fit.npz"),
+                 "--model", str(tmp_path / "m.pt"), "--out", str(tmp_path / "lifted.npz")]) == 0
+    out = load_result3d(tmp_path / "lifted.npz")
+    assert out.keypoints3d.shape == (60, 25, 3) and out.meta["keypoints3d_source"] == "lifter"
