@@ -140,11 +140,8 @@ def body_signals(kp: np.ndarray, up=(0.0, 0.0, 1.0)) -> dict[str, PartSignals]:
         foot = _unit(g[f"{side}_big_toe"] - g[f"{side}_heel"])
         shank = _unit(g[f"{side}_knee"] - g[f"{side}_ankle"])
         angle = np.degrees(np.arccos(np.clip(_dot(foot, shank), -1, 1)))
-        normal = _unit(np.cross(foot, g[f"{side}_small_toe"] - g[f"{side}_heel"]))
-        if side == "right":
-            normal = -normal
-        ref_n = _ortho(shank, foot)
-        roll_deg = np.degrees(np.arccos(np.clip(_dot(normal, ref_n), -1, 1)))
+        lateral = _ortho(g[f"{side}_small_toe"] - g[f"{side}_big_toe"], foot)  # across the sole
+        roll_deg = np.degrees(np.arcsin(np.clip(np.abs(_dot(lateral, up)), 0, 1)))  # sole tilted sideways
         out[f"{side}_foot"] = PartSignals(np.zeros((T, 0)), (), (), {"angle_deg": angle, "roll_deg": roll_deg})
     return out
 

@@ -448,8 +448,11 @@ class ChoreographyGenerator:
         phi = rng.uniform(0.3, 0.45)
         vertical = np.array([cur[0], -phi, cur[2], 2 * phi + REST[gj[3]], 0.0])  # the foot rises straight up
         t += self._write_move(h, gj, t, cur, vertical, self._speed(style, rng))
+        t += self._hold(h, gj, t, int(0.35 * self.fps), vertical)
         h[t:, gj] = vertical
         t += self._write_move(h, gj, t, vertical, lift, self._speed(style, rng))
+        t += self._hold(h, gj, t, int(0.35 * self.fps), lift)
+        h[t:, gj] = lift
         lifted_from = t
         kinds = list(style.gesture)
         w = np.array([style.gesture[k] for k in kinds], dtype=float)
@@ -540,9 +543,11 @@ class ChoreographyGenerator:
             flat[4:] = 0.0
             if np.max(np.abs(flat - cur)) > 1e-6:
                 t += self._write_move(h, both, t, cur, flat, self._speed(style, rng))
+                t += self._hold(h, both, t, int(0.35 * self.fps), flat)
                 h[t:, both] = flat
             vertical = np.r_[0.0, -0.35, 0.0, 0.7, 0.0, 0.0] + REST[both]  # and lands straight down
             t += self._write_move(h, both, t, flat, vertical, self._speed(style, rng))
+            t += self._hold(h, both, t, int(0.35 * self.fps), vertical)
             h[t:, both] = vertical
             t += self._write_move(h, both, t, vertical, REST[both], self._speed(style, rng))
         self.stance[t0:t] = 2 if gesture_side == "left" else 1

@@ -70,7 +70,7 @@ STYLES: dict[str, GenreStyle] = {
                       {"hold": 2, "move": 5, "circle": 0.5, "jitter": 0.6}, {"hold": 2, "move": 2, "circle": 0.5, "jitter": 0.5},
                       {"hold": 2, "move": 4, "swing": 1, "circle": 0.6, "jitter": 0.8},
                       {"hold": 1.5, "move": 5, "circle": 0.7, "swing": 1.5, "forearm": 1, "jitter": 0.8},
-                      {"gesture": 3, "plie": 3, "relieve": 1, "turn": 1, "flip": 0.6, "hips_shift": 1, "hips_wave": 0.5,
+                      {"gesture": 3, "plie": 3, "relieve": 1, "turn": 1, "flip": 1.2, "hips_shift": 1, "hips_wave": 0.5,
                        "hips_jitter": 0.6, "hold": 1},
                       {"move": 4, "kick": 1.5, "knee": 1.5, "swing": 1, "circle": 0.5, "foot": 1.5, "hold": 1, "jitter": 0.8}),
     "rumba": _style("rumba", (100, 110), 4, (0.9, 1.8), 0.7, True, (1.0, 1.3),
