@@ -7,7 +7,7 @@ Clip folder ``clip_{index:05d}/`` (all files written atomically; ``meta.json`` l
   ``qpos`` float64 (N, T, 41) dancer world (see :mod:`hdvr.skeleton`); ``keypoints3d_world`` float32 (N, T, 25, 3)
   metres; ``keypoints3d_camera`` float32 (N, T, 25, 3) metres, camera frame (x right, y down, z forward);
   ``keypoints2d`` float32 (N, T, 25, 2) pixels (NaN behind the camera); ``visibility`` int8 (N, T, 25):
-  2 visible, 1 occluded (by another dancer or scenery; with ``render=False`` occlusion is not computed and
+  2 visible, 1 occluded by another dancer (with ``render=False`` occlusion is not computed and
   in-image keypoints are 2), 0 outside the image; ``boxes`` float32 (N, T, 4) x, y, w, h pixels (amodal, NaN
   when the dancer is out of view); ``track_ids`` int32 (N,); ``labels`` int16 (N, T, 16) global movement
   label ids (:mod:`hdvr.movements.taxonomy`, part order of the taxonomy); ``camera_rotation`` float64 (T, 3, 3)

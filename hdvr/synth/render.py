@@ -1,10 +1,11 @@
 """Offscreen rendering of a scene (MuJoCo, ``MUJOCO_GL=egl`` on CPU) with per-keypoint visibility.
 
 Per frame: an RGB image (``width`` x ``height``) from the scene camera ``cam``, and a segmentation image at half
-resolution from which each projected keypoint's visibility is read: 2 = visible, 1 = occluded by another dancer
-(or the scenery), 0 = outside the image or behind the camera. A keypoint counts as visible when its own dancer
-covers any pixel of the 5x5 half-resolution neighbourhood of its projection (keypoints are joint centres inside
-the body, so self-occlusion is not occlusion, as in COCO / OpenPose annotation practice).
+resolution from which each projected keypoint's visibility is read: 2 = visible, 1 = occluded by another dancer,
+0 = outside the image or behind the camera. The half-resolution pixel under the projection decides: the own
+dancer -> visible; another dancer -> occluded; scenery (a limb thinner than a pixel) -> visible unless the 3x3
+neighbourhood shows another dancer and not this one. Keypoints are joint centres inside the body, so
+self-occlusion is not occlusion (as in COCO / OpenPose annotation practice).
 
 Cameras (:func:`random_camera_path`): pinhole with the principal point at the image centre (MuJoCo's camera
 model), horizontal field of view 40-70 deg, placed at 3-8 m from the dancers' centre at 0.6-2.4 m height, any
@@ -139,7 +140,7 @@ class SceneRenderer:
 
 
 def keypoint_visibility(kp_cam: np.ndarray, dancer_map: np.ndarray, dancer: int, intr: Intrinsics,
-                        size=(640, 480), radius: int = 2) -> tuple[np.ndarray, np.ndarray]:
+                        size=(640, 480), radius: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """(uv (25, 2) pixels, visibility (25,) int8 in {0, 1, 2}) of one dancer's camera-frame keypoints."""
     w, h = size
     uv = project(kp_cam, intr.focal, intr.principal_point)
@@ -148,9 +149,15 @@ def keypoint_visibility(kp_cam: np.ndarray, dancer_map: np.ndarray, dancer: int,
     sh, sw = dancer_map.shape
     scale = sw / w
     for k in np.flatnonzero(inside):
-        cx, cy = int(uv[k, 0] * scale), int(uv[k, 1] * scale)
-        patch = dancer_map[max(cy - radius, 0):cy + radius + 1, max(cx - radius, 0):cx + radius + 1]
-        vis[k] = VISIBLE if (patch == dancer).any() else OCCLUDED
+        cx, cy = min(int(uv[k, 0] * scale), sw - 1), min(int(uv[k, 1] * scale), sh - 1)
+        centre = dancer_map[cy, cx]
+        if centre == dancer:
+            vis[k] = VISIBLE
+        elif centre >= 0:  # another dancer's surface is in front of this joint
+            vis[k] = OCCLUDED
+        else:  # scenery at the centre pixel: a limb thinner than a pixel, unless another dancer surrounds it
+            patch = dancer_map[max(cy - radius, 0):cy + radius + 1, max(cx - radius, 0):cx + radius + 1]
+            vis[k] = VISIBLE if (patch == dancer).any() or not (patch >= 0).any() else OCCLUDED
     return uv, vis
 
 
