@@ -53,16 +53,21 @@ def register(subparsers) -> None:
     p.add_argument("--fps", type=float, default=30.0, help="frame rate BVH files are resampled to")
     p.add_argument("--start", type=float, default=0.0, help="score start (s)")
     p.add_argument("--end", type=float, default=None, help="score end (s), default: the whole motion")
+    p.add_argument("--smoothing", type=float, default=None,
+                   help="temporal smoothing of the keypoints in seconds (default 0.1 for mocap-grade input; 0.2-0.3 "
+                        "for noisy fitted 3D, which hides fast shakes)")
     p.set_defaults(func=_main)
 
 
 def _main(args) -> int:
     from hdvr.io.atomic import write_text_atomic
-    from hdvr.movements.labeller import label_keypoints
+    from hdvr.movements.labeller import MovementLabeller
     from hdvr.movements.score import draw_score
 
     kp, fps, up = load_motion(args.motion, args.dancer, args.fps)
-    labels = label_keypoints(kp, fps, up)
+    if args.smoothing is not None and not 0 <= args.smoothing <= 2:
+        raise HDVRError(f"--smoothing must be between 0 and 2 seconds, got {args.smoothing}")
+    labels = MovementLabeller(smoothing_s=args.smoothing).label(kp, fps, up)
     doc = {"source": str(args.motion), "fps": fps, "frames": int(kp.shape[0]),
            "parts": list(labels.taxonomy.part_names), "segments": labels.segments()}
     write_text_atomic(args.out, json.dumps(doc, indent=1))

@@ -277,9 +277,12 @@ class MovementLabeller:
     generator uses that mode on its exact kinematics and adds the pattern labels its primitives declare.
     """
 
-    def __init__(self, taxonomy: Taxonomy | None = None, patterns: bool = True, smooth: bool = True):
+    def __init__(self, taxonomy: Taxonomy | None = None, patterns: bool = True, smooth: bool = True,
+                 smoothing_s: float | None = None):
         self.tax = taxonomy or load_taxonomy()
-        self.th = self.tax.thresholds
+        self.th = dict(self.tax.thresholds)
+        if smoothing_s is not None:  # longer for noisy input (fitted 3D), at the cost of fast shakes (jitter)
+            self.th["smoothing_s"] = float(smoothing_s)
         self.patterns = patterns
         self.smooth = smooth
 

@@ -188,7 +188,7 @@ class ChoreographyGenerator:
         env = envelope(n, self.fps, 0.1)
         for i, j in enumerate(joints):
             a = min(amp, value[i] - LOWER[j], UPPER[j] - value[i])
-            sig = sum(np.sin(2 * np.pi * rng.uniform(4.0, 5.0) * t + rng.uniform(0, 2 * np.pi)) for _ in range(2)) / 1.6
+            sig = sum(np.sin(2 * np.pi * rng.uniform(3.2, 4.2) * t + rng.uniform(0, 2 * np.pi)) for _ in range(2)) / 1.6
             h[t0:t0 + n, j] = value[i] + env * a * sig
         return n
 
@@ -409,7 +409,7 @@ class ChoreographyGenerator:
             n = int(round(self.fps * rng.uniform(0.8, 1.3)))
             tt = np.arange(n) / self.fps
             env = envelope(n, self.fps, 0.1)
-            lat = 0.008 * env * sum(np.sin(2 * np.pi * rng.uniform(4.0, 5.0) * tt + rng.uniform(0, 6.3)) for _ in range(2))
+            lat = 0.008 * env * sum(np.sin(2 * np.pi * rng.uniform(3.2, 4.2) * tt + rng.uniform(0, 6.3)) for _ in range(2))
             sag = np.zeros(n)
         else:
             periods = rng.uniform(2.2, 3.5)
@@ -554,7 +554,7 @@ class ChoreographyGenerator:
         return t - t0
 
     # ---- root placement --------------------------------------------------------------------------------------
-    def _clear_gesture_foot(self, h, stance, clearance=0.02, iterations=8):
+    def _clear_gesture_foot(self, h, stance, clearance=0.02, iterations=6):
         """Raise a gesturing foot that would come closer to the floor than the standing foot + ``clearance``
         (m) by bending its knee more, while the leg is up (``self.airtime``: between the straight-up lift and the
         straight-down landing of each phrase). Keeps the weight on the standing leg."""
@@ -563,10 +563,10 @@ class ChoreographyGenerator:
         rows = np.flatnonzero(stance > 0)
         taper = uniform_filter1d(self.airtime.astype(float), 5, mode="nearest")
         want = clearance * taper
-        q = np.zeros((rows.size, 41))
-        q[:, 3] = 1.0
         shank = float(self.sk.bone_lengths[7])
         for _ in range(iterations):
+            q = np.zeros((rows.size, 41))
+            q[:, 3] = 1.0
             q[:, ROOT_QPOS:] = h[rows]
             kp = self.sk.keypoints(q)
             low = {s: kp[:, list(ix), 2].min(1) for s, ix in SOLE_KEYPOINTS.items()}
@@ -584,6 +584,15 @@ class ChoreographyGenerator:
                 extra = uniform_filter1d(maximum_filter1d(raw, 9, mode="nearest"), 9, mode="nearest")
                 h[:, j] = np.clip(h[:, j] + extra * taper * (stance == code), LOWER[j], UPPER[j])
             if not changed:
+                break
+            # only frames near a remaining deficit need another look (the correction spreads over +-8 frames)
+            near = np.zeros(h.shape[0], dtype=bool)
+            for code, stand, gest in ((1, "left", "right"), (2, "right", "left")):
+                d = np.zeros(h.shape[0])
+                d[rows] = np.where(stance[rows] == code, low[stand] + want[rows] - low[gest], 0.0)
+                near |= maximum_filter1d((d > 1e-4).astype(np.uint8), 17) > 0
+            rows = np.flatnonzero(near & (stance > 0))
+            if rows.size == 0:
                 break
         return h
 

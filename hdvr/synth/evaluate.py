@@ -44,12 +44,12 @@ def f_scores(reference: np.ndarray, predicted: np.ndarray, n_labels: int = 154) 
 
 
 def evaluate_labeller(seconds: float = 60.0, clips_per_genre: int = 2, seed: int = 0, noise_m: float = 0.0,
-                      fps: float = 30.0, genres=GENRES) -> dict:
+                      fps: float = 30.0, genres=GENRES, smoothing_s: float | None = None) -> dict:
     """Generate ``clips_per_genre`` dancers per genre, label their keypoints, compare. Returns fixed keys:
-    per_part_micro_f1, per_part_macro_f1, per_label_f1, support, missing_labels, frames, noise_m,
+    per_part_micro_f1, per_part_macro_f1, per_label_f1, support, missing_labels, frames, noise_m, smoothing_s,
     joint_limit_violation_rad, foot_penetration_m, foot_skate_max_m_s, foot_skate_all_feet_max_m_s."""
     tax = load_taxonomy()
-    labeller = MovementLabeller(tax)
+    labeller = MovementLabeller(tax, smoothing_s=smoothing_s)
     refs, preds = [], []
     worst = {"viol": 0.0, "pen": 0.0, "skate": 0.0, "skate_all": 0.0}
     for gi, genre in enumerate(genres):
@@ -72,6 +72,6 @@ def evaluate_labeller(seconds: float = 60.0, clips_per_genre: int = 2, seed: int
     out = f_scores(ref, pred)
     present = set(np.unique(ref).tolist())
     out.update({"missing_labels": [lab.key for lab in tax.labels if lab.id not in present], "frames": int(ref.shape[0]),
-                "noise_m": noise_m, "joint_limit_violation_rad": worst["viol"], "foot_penetration_m": worst["pen"],
+                "noise_m": noise_m, "smoothing_s": labeller.th["smoothing_s"], "joint_limit_violation_rad": worst["viol"], "foot_penetration_m": worst["pen"],
                 "foot_skate_max_m_s": worst["skate"], "foot_skate_all_feet_max_m_s": worst["skate_all"]})
     return out

@@ -38,7 +38,7 @@ import numpy as np
 
 from hdvr.errors import HDVRError
 from hdvr.io.atomic import atomic_path, write_text_atomic
-from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
+from hdvr.io.keypoints2d import Keypoints2D
 from hdvr.layouts import BODY25_NAMES
 from hdvr.movements.labeller import Labels
 from hdvr.movements.taxonomy import load_taxonomy
@@ -152,7 +152,8 @@ def generate_motion(spec: ClipSpec):
 
 def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True) -> dict:
     """Generate, (render) and write one clip; returns its meta dict. Skips nothing: callers check ``is_done``."""
-    from hdvr.synth.render import (OUTSIDE, VISIBLE, SceneRenderer, keypoint_boxes, keypoint_visibility,
+    from hdvr.synth.render import (OUTSIDE, VISIBLE, SceneRenderer, boxes_overlap, keypoint_boxes,
+                                   keypoint_visibility,
                                    random_camera_path)
     from hdvr.synth.scene import build_scene_xml, random_looks, random_stage
 
@@ -184,12 +185,18 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True) -
         ok = False
         t0 = time.perf_counter()
         try:
+            from hdvr.camera import project
+
+            uv_all = project(kp_cam, intr.focal, intr.principal_point)
+            pre_boxes = keypoint_boxes(uv_all, kp_cam, np.isfinite(uv_all).all(-1).any(-1), intr, spec.size)
             for t in range(T):
+                overlap = boxes_overlap(pre_boxes[:, t])
                 renderer.set_camera(cam.rotation[t], cam.centre[t], intr)
-                image, dancer_map = renderer.render(qpos_scene[t])
+                image, dancer_map = renderer.render(qpos_scene[t], segmentation=bool(overlap.any()))
                 writer.write(image)
                 for k in range(n):
-                    kp2d[k, t], vis[k, t] = keypoint_visibility(kp_cam[k, t], dancer_map, k, intr, spec.size)
+                    kp2d[k, t], vis[k, t] = keypoint_visibility(kp_cam[k, t], dancer_map if overlap[k] else None,
+                                                                k, intr, spec.size)
             ok = True
         finally:
             writer.close(ok)
@@ -215,7 +222,10 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True) -
     for k in range(n):
         conf = np.select([vis[k] == VISIBLE, vis[k] > 0], [1.0, 0.5], 0.0)
         arr = np.concatenate([kp2d[k], conf[..., None]], axis=-1).astype(np.float32)
-        save_keypoints2d(folder / f"dancer_{k}.keypoints2d.npz", Keypoints2D(arr, BODY25_NAMES, spec.fps, spec.size))
+        kp2 = Keypoints2D(arr, BODY25_NAMES, spec.fps, spec.size)  # validates the 2D keypoint contract
+        _save_npz_plain(folder / f"dancer_{k}.keypoints2d.npz", keypoints=kp2.keypoints,
+                        joint_names=np.array(kp2.joint_names), fps=np.float64(kp2.fps),
+                        image_size=np.array(kp2.image_size, dtype=np.int64))
     vis_frac = (vis == VISIBLE).mean(-1)
     lines = [f"{t + 1},{track_ids[k]},{boxes[k, t, 0]:.2f},{boxes[k, t, 1]:.2f},{boxes[k, t, 2]:.2f},"
              f"{boxes[k, t, 3]:.2f},1,1,{vis_frac[k, t]:.3f}"
@@ -226,7 +236,10 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True) -
         "genre": spec.genre, "fps": spec.fps,
         "dancers": [{"track_id": int(track_ids[k]), "segments": Labels(labels[k], spec.fps, tax).segments()}
                     for k in range(n)]}))
-    violation = max(float(Skeleton().limit_violation(d.qpos).max()) for d in dancers)
+    from hdvr import dh
+
+    violation = max(float((np.maximum(dh.LOWER - d.qpos[:, 7:], 0) + np.maximum(d.qpos[:, 7:] - dh.UPPER, 0)).max())
+                    for d in dancers)
     feet = [foot_metrics(d.keypoints, d.airborne, d.fps, stance=d.stance) for d in dancers]
     meta = {"format_version": FORMAT_VERSION, "clip": spec.name, "index": spec.index, "seed": spec.seed,
             "genre": spec.genre, "n_dancers": n, "frames": T, "fps": spec.fps, "seconds": spec.seconds,

@@ -1,7 +1,8 @@
 """Offscreen rendering of a scene (MuJoCo, ``MUJOCO_GL=egl`` on CPU) with per-keypoint visibility.
 
-Per frame: an RGB image (``width`` x ``height``) from the scene camera ``cam``, and a segmentation image at half
-resolution from which each projected keypoint's visibility is read: 2 = visible, 1 = occluded by another dancer,
+Per frame: an RGB image (``width`` x ``height``) from the scene camera ``cam``, and, when dancers' boxes overlap
+(only then can one occlude another), a segmentation image at half resolution from which each projected
+keypoint's visibility is read: 2 = visible, 1 = occluded by another dancer,
 0 = outside the image or behind the camera. The half-resolution pixel under the projection decides: the own
 dancer -> visible; another dancer -> occluded; scenery (a limb thinner than a pixel) -> visible unless the 3x3
 neighbourhood shows another dancer and not this one. Keypoints are joint centres inside the body, so
@@ -122,12 +123,15 @@ class SceneRenderer:
         self.model.cam_quat[self.cam_id] = _mj_cam_quat(rotation)
         self.model.cam_fovy[self.cam_id] = np.degrees(2 * np.arctan(self.height / 2 / intr.focal))
 
-    def render(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def render(self, qpos: np.ndarray, segmentation: bool = True) -> tuple[np.ndarray, np.ndarray | None]:
+        """RGB image and (when ``segmentation``) the half-resolution dancer id map."""
         self.data.qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mj_camlight(self.model, self.data)
         self.rgb.update_scene(self.data, camera=self.cam_id)
         image = self.rgb.render()
+        if not segmentation:
+            return image, None
         self.seg.update_scene(self.data, camera=self.cam_id)
         s = self.seg.render()
         ids = np.where(s[..., 1] == int(mujoco.mjtObj.mjOBJ_GEOM), s[..., 0], -1)
@@ -139,13 +143,31 @@ class SceneRenderer:
         self.seg.close()
 
 
-def keypoint_visibility(kp_cam: np.ndarray, dancer_map: np.ndarray, dancer: int, intr: Intrinsics,
+def boxes_overlap(boxes: np.ndarray) -> np.ndarray:
+    """(N,) bool: whether each dancer's box (N, 4: x, y, w, h; NaN = none) overlaps another dancer's box. Only
+    then can another dancer occlude its keypoints, so only then is the segmentation rendered."""
+    n = boxes.shape[0]
+    out = np.zeros(n, dtype=bool)
+    for i in range(n):
+        for j in range(i + 1, n):
+            a, b = boxes[i], boxes[j]
+            if not (np.isfinite(a).all() and np.isfinite(b).all()):
+                continue
+            if a[0] < b[0] + b[2] and b[0] < a[0] + a[2] and a[1] < b[1] + b[3] and b[1] < a[1] + a[3]:
+                out[i] = out[j] = True
+    return out
+
+
+def keypoint_visibility(kp_cam: np.ndarray, dancer_map: np.ndarray | None, dancer: int, intr: Intrinsics,
                         size=(640, 480), radius: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """(uv (25, 2) pixels, visibility (25,) int8 in {0, 1, 2}) of one dancer's camera-frame keypoints."""
     w, h = size
     uv = project(kp_cam, intr.focal, intr.principal_point)
     vis = np.full(kp_cam.shape[0], OUTSIDE, dtype=np.int8)
     inside = np.isfinite(uv).all(1) & (uv[:, 0] >= 0) & (uv[:, 0] < w) & (uv[:, 1] >= 0) & (uv[:, 1] < h)
+    if dancer_map is None:  # no other dancer can be in front: every keypoint in the image is visible
+        vis[inside] = VISIBLE
+        return uv, vis
     sh, sw = dancer_map.shape
     scale = sw / w
     for k in np.flatnonzero(inside):
