@@ -42,3 +42,23 @@ def test_label_command_on_salsa(shared_data, tmp_path):
     assert main(["label", str(shared_data / "cmu-salsa" / "60_02_scaled.bvh"), "--out", str(labels)]) == 0
     doc = json.loads(labels.read_text())
     assert doc["fps"] == 30.0 and len(doc["segments"]) > 100
+
+
+def test_label_command_on_a_3d_result(tmp_path):
+    import numpy as np
+
+    from hdvr.io.result3d import Result3D, save_result3d
+    from hdvr.synth.choreography import ChoreographyGenerator
+
+    chor = ChoreographyGenerator().generate("belly_dance", 3, np.random.default_rng(1))
+    T = chor.qpos.shape[0]
+    result = Result3D(keypoints3d=chor.keypoints, qpos=chor.qpos, focal=np.full(T, 500.0),
+                      principal_point=np.tile([320.0, 240.0], (T, 1)),
+                      bone_lengths=ChoreographyGenerator().sk.bone_lengths, reprojection_error_px=np.zeros(T))
+    save_result3d(tmp_path / "fit.npz", result)
+    out = tmp_path / "labels.json"
+    assert main(["label", str(tmp_path / "fit.npz"), "--out", str(out), "--smoothing", "0.1"]) == 0
+    segs = json.loads(out.read_text())["segments"]
+    from hdvr.movements.labeller import MovementLabeller
+    expected = MovementLabeller().label(chor.keypoints, 30.0).segments()
+    assert [(s["part"], s["label"], s["start"]) for s in segs] == [(s["part"], s["label"], s["start"]) for s in expected]

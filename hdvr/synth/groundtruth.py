@@ -274,7 +274,9 @@ def is_done(out_dir: str | os.PathLike, spec: ClipSpec, render: bool) -> bool:
     except (json.JSONDecodeError, OSError):
         return False
     same = (meta.get("seed") == spec.seed and meta.get("genre") == spec.genre and meta.get("frames") ==
-            int(round(spec.seconds * spec.fps)) and meta.get("format_version") == FORMAT_VERSION)
+            max(int(round(spec.seconds * spec.fps)), 3) and meta.get("format_version") == FORMAT_VERSION
+            and meta.get("n_dancers") == spec.n_dancers and meta.get("fps") == spec.fps
+            and tuple(meta.get("image_size", ())) == tuple(spec.size))
     if render and not (meta.get("rendered") and (Path(out_dir) / spec.name / "video.mp4").is_file()):
         return False
     return same
