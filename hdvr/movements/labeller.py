@@ -84,15 +84,21 @@ class PartSignals:
     extra: dict
 
 
-def body_signals(kp: np.ndarray, up=(0.0, 0.0, 1.0)) -> dict[str, PartSignals]:
-    """Per-part signals from BODY_25 keypoints (T, 25, 3), NaN-free; ``up`` is the frame's vertical."""
+def body_signals(kp: np.ndarray, up=(0.0, 0.0, 1.0), flipping: np.ndarray | None = None) -> dict[str, PartSignals]:
+    """Per-part signals from BODY_25 keypoints (T, 25, 3), NaN-free; ``up`` is the frame's vertical.
+
+    The pelvis frame takes its z from ``up`` (three collinear hip points do not fix the pelvis' pitch); in the
+    frames where ``flipping`` (T,) is True (a somersault) it takes it from the trunk instead, so that limbs are
+    measured against the body while the body turns over."""
     T = kp.shape[0]
     up = np.broadcast_to(_unit(np.asarray(up, dtype=np.float64)), (T, 3))
     g = {n: kp[:, i] for n, i in J.items()}
     y_p = _unit(g["left_hip"] - g["right_hip"])
-    z_p = _ortho(up, y_p)
-    pelvis = (np.cross(y_p, z_p), y_p, z_p)
     z_t = _unit(g["neck"] - g["mid_hip"])
+    z_p = _ortho(up, y_p)
+    if flipping is not None and flipping.any():
+        z_p = np.where(flipping[:, None], _ortho(z_t, y_p), z_p)
+    pelvis = (np.cross(y_p, z_p), y_p, z_p)
     y_t = _ortho(g["left_shoulder"] - g["right_shoulder"], z_t)
     torso = (np.cross(y_t, z_t), y_t, z_t)
     out: dict[str, PartSignals] = {}
@@ -309,7 +315,7 @@ class MovementLabeller:
         win = max(1, int(round(self.th["smoothing_s"] * fps)) | 1)
         if self.smooth and win > 1:
             filled = uniform_filter1d(filled, win, axis=0, mode="nearest")
-        signals = body_signals(filled, up)
+        signals = body_signals(filled, up, self._flipping(filled, fps, up))
         ids = np.zeros((T, len(self.tax.parts)), dtype=np.int16)
         for part in self.tax.parts:
             names = PART_KEYPOINTS.get(part.name) or PART_KEYPOINTS[part.measure]
@@ -320,6 +326,13 @@ class MovementLabeller:
         return Labels(ids, float(fps), self.tax)
 
     # ------------------------------------------------------------------------------------------------------------
+    def _flipping(self, kp: np.ndarray, fps: float, up) -> np.ndarray:
+        """Frames of a somersault: the trunk axis turns in the world's vertical plane faster than the threshold."""
+        sig = body_signals(kp, up)["torso"].extra["trunk_pitch"]
+        rate = np.abs(np.gradient(sig) * fps)
+        thr = self.th["somersault_speed_rad_s"]
+        return _hysteresis(rate, thr, thr * 0.6)
+
     def _label_part(self, part: Part, sig: PartSignals, fps: float) -> np.ndarray:
         th = self.th
         T = sig.components.shape[0] if sig.components.size else sig.extra["angle_deg"].shape[0]
