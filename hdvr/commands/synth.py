@@ -42,15 +42,37 @@ def _one_clip(out: str, spec, render: bool) -> dict:
     return make_clip(out, spec, render=render)
 
 
+def _one_mocap_clip(out: str, spec, paths: list[str], render: bool) -> dict:
+    os.environ.setdefault("MUJOCO_GL", "egl")
+    from hdvr.synth.groundtruth import make_clip, mocap_motion
+
+    return make_clip(out, spec, render=render, motion=mocap_motion(spec, paths))
+
+
+def mocap_groups(folder: str | os.PathLike) -> list[list[str]]:
+    """BVH takes grouped into scenes: files ``{subject}_{take}*.bvh`` with the same take and different subjects
+    dance together (CMU salsa: 60_01 lead + 61_01 follow share one world frame); sorted by take."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise HDVRError(f"mocap folder not found: {folder}")
+    groups: dict[str, list[str]] = {}
+    for path in sorted(folder.glob("*.bvh")):
+        subject, _, take = path.stem.partition("_")
+        groups.setdefault(take or subject, []).append(str(path))
+    if not groups:
+        raise HDVRError(f"no .bvh files in {folder}")
+    return [groups[k][:4] for k in sorted(groups)]
+
+
 def run_synth(out: str | os.PathLike, clips: int, genres: str | None = None, dancers: str = "1-4",
               seconds: float = 10.0, seed: int = 0, render: bool = True, workers: int = 1, fps: float = 30.0,
-              size: str = "640x480") -> dict:
+              size: str = "640x480", mocap: str | None = None, mocap_clips: int | None = None) -> dict:
     """Generate (or complete) a dataset; returns the index dict (see :func:`hdvr.synth.groundtruth.write_index`)."""
     from hdvr.synth.genres import parse_genres
     from hdvr.synth.groundtruth import clip_spec, is_done, write_index
 
-    if clips < 1:
-        raise HDVRError(f"--clips must be at least 1, got {clips}")
+    if clips < 0 or clips == 0 and not mocap:
+        raise HDVRError(f"--clips must be at least 1 (or 0 with --mocap), got {clips}")
     if not 0.5 <= seconds <= 600:
         raise HDVRError(f"--seconds must be between 0.5 and 600, got {seconds}")
     if not 5 <= fps <= 120:
@@ -60,19 +82,29 @@ def run_synth(out: str | os.PathLike, clips: int, genres: str | None = None, dan
     genre_list = parse_genres(genres)
     lo_hi = _parse_range(dancers)
     wh = _parse_size(size)
-    specs = [clip_spec(i, seed, genre_list, lo_hi, seconds, fps, wh) for i in range(clips)]
-    todo = [s for s in specs if not is_done(out, s, render)]
-    bar = progress(total=len(specs), desc="synth", unit="clip", initial=len(specs) - len(todo))
+    jobs = [(_one_clip, (str(out), clip_spec(i, seed, genre_list, lo_hi, seconds, fps, wh), render))
+            for i in range(clips)]
+    if mocap:
+        from hdvr.synth.groundtruth import ClipSpec
+
+        groups = mocap_groups(mocap)
+        count = len(groups) if mocap_clips is None else mocap_clips
+        for k in range(count):  # cycle over the takes; each clip starts at its own random time
+            group = groups[k % len(groups)]
+            spec = ClipSpec(k, seed, "salsa", len(group), float(seconds), fps, wh, prefix="mocap")
+            jobs.append((_one_mocap_clip, (str(out), spec, group, render)))
+    todo = [(fn, a) for fn, a in jobs if not is_done(out, a[1], render)]
+    bar = progress(total=len(jobs), desc="synth", unit="clip", initial=len(jobs) - len(todo))
     try:
         if workers <= 1 or len(todo) <= 1:
-            for spec in todo:
-                _one_clip(str(out), spec, render)
+            for fn, a in todo:
+                fn(*a)
                 bar.update(1)
         else:
             import multiprocessing as mp
 
             with ProcessPoolExecutor(max_workers=workers, mp_context=mp.get_context("spawn")) as pool:
-                futures = [pool.submit(_one_clip, str(out), spec, render) for spec in todo]
+                futures = [pool.submit(fn, *a) for fn, a in todo]
                 for fut in as_completed(futures):
                     fut.result()
                     bar.update(1)
@@ -101,11 +133,15 @@ def register(subparsers) -> None:
     p.add_argument("--workers", type=int, default=1, help="clips generated in parallel (processes)")
     p.add_argument("--fps", type=float, default=30.0, help="frames per second")
     p.add_argument("--size", default="640x480", help="video size WIDTHxHEIGHT")
+    p.add_argument("--mocap", help="folder of BVH takes to mix in (CMU skeleton; files {subject}_{take}*.bvh with "
+                                   "the same take dance together, e.g. ../shared/data/cmu-salsa): retargeted to the "
+                                   "dancer, rendered like the synthetic clips as mocap_XXXXX/, genre 'salsa'")
+    p.add_argument("--mocap-clips", type=int, default=None, help="number of mocap clips (default: one per take)")
     p.set_defaults(func=lambda a: _main(a))
 
 
 def _main(args) -> int:
     index = run_synth(args.out, args.clips, args.genres, args.dancers, args.seconds, args.seed,
-                      not args.no_render, args.workers, args.fps, args.size)
+                      not args.no_render, args.workers, args.fps, args.size, args.mocap, args.mocap_clips)
     print(f"{len(index['clips'])} clips in {args.out} (index.json)")
     return 0

@@ -13,7 +13,7 @@ Clip folder ``clip_{index:05d}/`` (all files written atomically; ``meta.json`` l
   label ids (:mod:`hdvr.movements.taxonomy`, part order of the taxonomy); ``camera_rotation`` float64 (T, 3, 3)
   and ``camera_centre`` (T, 3): ``P_cam = R (P_world - C)``; ``focal`` float64 (T,) px; ``principal_point`` (2,)
   px; ``image_size`` int (2,) (width, height); ``fps`` float; ``genre_index`` int (index in
-  :data:`hdvr.synth.genres.GENRES`); ``heights_m`` float64 (N,).
+  :data:`hdvr.synth.genres.GENRES`; -1 for mocap clips, genre "salsa"); ``heights_m`` float64 (N,).
 - ``dancer_{k}.keypoints2d.npz``: dancer k's BODY_25 2D keypoints in the 2D keypoint contract
   (:mod:`hdvr.io.keypoints2d`): confidence 1 visible, 0.5 occluded, 0 (NaN) outside.
 - ``mot.txt``: MOT Challenge ground truth: ``frame, id, left, top, width, height, 1, 1, visibility`` (frames
@@ -63,10 +63,11 @@ class ClipSpec:
     seconds: float
     fps: float = 30.0
     size: tuple[int, int] = (640, 480)
+    prefix: str = "clip"  # "mocap" for clips of retargeted real mocap
 
     @property
     def name(self) -> str:
-        return f"clip_{self.index:05d}"
+        return f"{self.prefix}_{self.index:05d}"
 
 
 def clip_spec(index: int, seed: int, genres: tuple[str, ...], dancers: tuple[int, int], seconds: float,
@@ -150,8 +151,35 @@ def generate_motion(spec: ClipSpec):
     return dancers, heights
 
 
-def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True) -> dict:
-    """Generate, (render) and write one clip; returns its meta dict. Skips nothing: callers check ``is_done``."""
+def mocap_motion(spec: ClipSpec, bvh_paths: list[str]):
+    """Dancers of a mocap clip: BVH takes sharing one world frame (e.g. CMU salsa lead 60_XX and follow 61_XX),
+    resampled to ``spec.fps``, a ``spec.seconds`` stretch from a start drawn from (seed, index), retargeted to the
+    dancer (:mod:`hdvr.synth.retarget`). Their movement labels come from the reference labeller (no primitives)."""
+    from hdvr.io.bvh import load_mocap_body25
+    from hdvr.movements.labeller import MovementLabeller
+    from hdvr.synth.choreography import Choreography
+    from hdvr.synth.retarget import retarget, stature_from_body25
+
+    takes = [load_mocap_body25(p, fps=spec.fps)[0] for p in bvh_paths]
+    T_all = min(k.shape[0] for k in takes)
+    T = min(max(int(round(spec.seconds * spec.fps)), 3), T_all)
+    start = int(np.random.default_rng([spec.seed, spec.index, 3]).integers(0, T_all - T + 1))
+    dancers, heights = [], []
+    for kp in takes:
+        kp = kp[start:start + T]
+        height = stature_from_body25(kp)
+        sk = Skeleton(height_m=height)
+        qpos, _ = retarget(kp, sk)
+        world = sk.keypoints(qpos)
+        labels = MovementLabeller().label(world, spec.fps).ids
+        dancers.append(Choreography(spec.genre, spec.fps, qpos, world, labels, np.zeros(T, dtype=bool)))
+        heights.append(height)
+    return dancers, np.array(heights)
+
+
+def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, motion=None) -> dict:
+    """Generate, (render) and write one clip; returns its meta dict. Skips nothing: callers check ``is_done``.
+    ``motion``: precomputed (dancers, heights), e.g. from :func:`mocap_motion`."""
     from hdvr.synth.render import (OUTSIDE, VISIBLE, SceneRenderer, boxes_overlap, keypoint_boxes,
                                    keypoint_visibility,
                                    random_camera_path)
@@ -160,7 +188,7 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True) -
     folder = Path(out_dir) / spec.name
     folder.mkdir(parents=True, exist_ok=True)
     t_start = time.perf_counter()
-    dancers, heights = generate_motion(spec)
+    dancers, heights = generate_motion(spec) if motion is None else motion
     n, T = len(dancers), dancers[0].qpos.shape[0]
     t_motion = time.perf_counter() - t_start
     rng = np.random.default_rng([spec.seed, spec.index, 2])
@@ -218,7 +246,8 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True) -
                     track_ids=track_ids, labels=labels, camera_rotation=cam.rotation, camera_centre=cam.centre,
                     focal=np.full(T, intr.focal), principal_point=np.array(intr.principal_point),
                     image_size=np.array(spec.size, dtype=np.int64), fps=np.float64(spec.fps),
-                    genre_index=np.int64(GENRES.index(spec.genre)), heights_m=np.asarray(heights))
+                    genre_index=np.int64(GENRES.index(spec.genre) if spec.genre in GENRES else -1),
+                    heights_m=np.asarray(heights))
     for k in range(n):
         conf = np.select([vis[k] == VISIBLE, vis[k] > 0], [1.0, 0.5], 0.0)
         arr = np.concatenate([kp2d[k], conf[..., None]], axis=-1).astype(np.float32)
@@ -241,8 +270,9 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True) -
     violation = max(float((np.maximum(dh.LOWER - d.qpos[:, 7:], 0) + np.maximum(d.qpos[:, 7:] - dh.UPPER, 0)).max())
                     for d in dancers)
     feet = [foot_metrics(d.keypoints, d.airborne, d.fps, stance=d.stance) for d in dancers]
+    frames = T
     meta = {"format_version": FORMAT_VERSION, "clip": spec.name, "index": spec.index, "seed": spec.seed,
-            "genre": spec.genre, "n_dancers": n, "frames": T, "fps": spec.fps, "seconds": spec.seconds,
+            "genre": spec.genre, "n_dancers": n, "frames": frames, "fps": spec.fps, "seconds": spec.seconds,
             "image_size": list(spec.size), "rendered": bool(render), "heights_m": [float(x) for x in heights],
             "focal_px": float(intr.focal), "joint_limit_violation_rad": violation,
             "foot_penetration_m": max(f["penetration_m"] for f in feet),
@@ -273,8 +303,9 @@ def is_done(out_dir: str | os.PathLike, spec: ClipSpec, render: bool) -> bool:
         meta = json.loads(meta_path.read_text())
     except (json.JSONDecodeError, OSError):
         return False
-    same = (meta.get("seed") == spec.seed and meta.get("genre") == spec.genre and meta.get("frames") ==
-            max(int(round(spec.seconds * spec.fps)), 3) and meta.get("format_version") == FORMAT_VERSION
+    frames_ok = meta.get("frames") == max(int(round(spec.seconds * spec.fps)), 3) or spec.prefix == "mocap"
+    same = (meta.get("seed") == spec.seed and meta.get("genre") == spec.genre and frames_ok
+            and meta.get("seconds") == spec.seconds and meta.get("format_version") == FORMAT_VERSION
             and meta.get("n_dancers") == spec.n_dancers and meta.get("fps") == spec.fps
             and tuple(meta.get("image_size", ())) == tuple(spec.size))
     if render and not (meta.get("rendered") and (Path(out_dir) / spec.name / "video.mp4").is_file()):
@@ -283,16 +314,18 @@ def is_done(out_dir: str | os.PathLike, spec: ClipSpec, render: bool) -> bool:
 
 
 def write_index(out_dir: str | os.PathLike) -> dict:
-    """Scan the clip folders and write ``index.json`` (fixed keys: format_version, genres, label_count, clips:
-    list of {clip, genre, genre_index, n_dancers, frames, fps, rendered})."""
+    """Scan the clip folders (``clip_*``, ``mocap_*``) and write ``index.json`` (fixed keys: format_version, genres,
+    label_count, clips: list of {clip, genre, genre_index (-1: not one of the nine), n_dancers, frames, fps,
+    rendered})."""
     out = Path(out_dir)
     clips = []
-    for meta_path in sorted(out.glob("clip_*/meta.json")):
+    for meta_path in sorted(out.glob("clip_*/meta.json")) + sorted(out.glob("mocap_*/meta.json")):
         try:
             m = json.loads(meta_path.read_text())
         except (json.JSONDecodeError, OSError):
             continue
-        clips.append({"clip": m["clip"], "genre": m["genre"], "genre_index": GENRES.index(m["genre"]),
+        clips.append({"clip": m["clip"], "genre": m["genre"],
+                      "genre_index": GENRES.index(m["genre"]) if m["genre"] in GENRES else -1,
                       "n_dancers": m["n_dancers"], "frames": m["frames"], "fps": m["fps"], "rendered": m["rendered"]})
     index = {"format_version": FORMAT_VERSION, "genres": list(GENRES), "label_count": len(load_taxonomy().labels),
              "clips": clips}
