@@ -554,6 +554,24 @@ class ChoreographyGenerator:
         return t - t0
 
     # ---- root placement --------------------------------------------------------------------------------------
+    def _steady_head(self, h, declared, iterations=2):
+        """Neck circles and shakes tilt the neck as an Euler sequence, which also turns the head a little about
+        the neck (twice per circle). Cancel that with the neck twist, so the head holds its own direction."""
+        from hdvr.movements.labeller import body_signals
+
+        j = JI["neck_twist"]
+        for d in declared:
+            if d.parts != ("neck",):
+                continue
+            s, e = max(d.start - 2, 0), min(d.end + 2, h.shape[0])
+            for _ in range(iterations):
+                q = np.zeros((e - s, 41))
+                q[:, 3] = 1.0
+                q[:, ROOT_QPOS:] = h[s:e]
+                yaw = body_signals(self.sk.keypoints(q))["head"].components[:, 0]
+                h[s:e, j] = np.clip(h[s:e, j] - (yaw - yaw[0]), LOWER[j], UPPER[j])
+        return h
+
     def _clear_gesture_foot(self, h, stance, clearance=0.02, iterations=6):
         """Raise a gesturing foot that would come closer to the floor than the standing foot + ``clearance``
         (m) by bending its knee more, while the leg is up (``self.airtime``: between the straight-up lift and the
@@ -673,13 +691,15 @@ class ChoreographyGenerator:
         self.airtime = np.zeros(T, dtype=bool)
         self._legs(h, yaw, pitch, style, beat, rng, declared, prims)
         h = np.clip(h, LOWER, UPPER)
+        h = self._steady_head(h, declared)
         h = self._clear_gesture_foot(h, self.stance)
         q, kp, airborne = self.place_root(h, yaw, pitch, start_xy, start_yaw, self.stance)
         labels = self.ground_truth_labels(kp, declared)
         return Choreography(style.name, self.fps, q, kp, labels, airborne, prims, declared, self.stance.copy())
 
     def ground_truth_labels(self, keypoints, declared) -> np.ndarray:
-        """Rules on exact kinematics, then the primitives' declared shape labels on the frames where the part moves."""
+        """Rules on exact kinematics, then the primitives' declared shape labels on the frames where the part moves
+        (flips and whole-body turns found by the rules stay)."""
         base = self.rule_labeller.label(keypoints, self.fps)
         ids = base.ids.copy()
         for d in declared:
@@ -687,10 +707,11 @@ class ChoreographyGenerator:
                 part = self.tax.part(pname)
                 col = ids[:, part.index]
                 quiet = np.isin(col, [lab.id for lab in part.labels if lab.kind in ("hold", "still")])
+                special = np.isin(col, [lab.id for lab in part.labels if lab.kind in ("somersault", "turning")])
+                if d.label == "somersault":  # the rule on the exact kinematics marks the flip itself
+                    continue
                 if d.label == "jitter":
                     lab = part.label("unknown")
-                elif d.label == "somersault":
-                    lab = part.label("somersault")
                 else:
                     lab = part.find("pattern", pattern=d.label)
                     if lab is None:
@@ -699,9 +720,7 @@ class ChoreographyGenerator:
                 for s, e, q in _runs(quiet):
                     overlap = max(0, min(e, d.end) - max(s, d.start))
                     if not q and overlap >= 0.5 * (e - s):
-                        col[s:e] = lab.id
-                if d.label == "somersault":
-                    col[d.start:d.end] = lab.id
+                        col[s:e] = np.where(special[s:e], col[s:e], lab.id)
         return ids
 
     def _mirror(self, lead: Choreography, start_xy, start_yaw) -> Choreography:
