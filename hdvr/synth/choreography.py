@@ -560,16 +560,23 @@ class ChoreographyGenerator:
         from hdvr.movements.labeller import body_signals
 
         j = JI["neck_twist"]
+        tilt = _j("neck_bend", "neck_flex")
         for d in declared:
             if d.parts != ("neck",):
                 continue
-            s, e = max(d.start - 2, 0), min(d.end + 2, h.shape[0])
-            for _ in range(iterations):
+            s, e = d.start, min(d.end, h.shape[0])
+
+            def head_yaw(hinges):
                 q = np.zeros((e - s, 41))
                 q[:, 3] = 1.0
-                q[:, ROOT_QPOS:] = h[s:e]
-                yaw = body_signals(self.sk.keypoints(q))["head"].components[:, 0]
-                h[s:e, j] = np.clip(h[s:e, j] - (yaw - yaw[0]), LOWER[j], UPPER[j])
+                q[:, ROOT_QPOS:] = hinges
+                return body_signals(self.sk.keypoints(q))["head"].components[:, 0]
+
+            still_neck = h[s:e].copy()
+            still_neck[:, tilt] = h[s, tilt]  # the same head motion without the neck's shape
+            reference = head_yaw(still_neck)
+            for _ in range(iterations):  # the shape's envelope starts and ends at rest: so does the correction
+                h[s:e, j] = np.clip(h[s:e, j] - (head_yaw(h[s:e]) - reference), LOWER[j], UPPER[j])
         return h
 
     def _clear_gesture_foot(self, h, stance, clearance=0.02, iterations=6):
