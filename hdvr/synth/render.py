@@ -127,7 +127,7 @@ class SceneRenderer:
         """RGB image and (when ``segmentation``) the half-resolution dancer id map."""
         self.data.qpos[:] = qpos
         mujoco.mj_kinematics(self.model, self.data)
-        mujoco.mj_camlight(self.model, self.data)
+        mujoco.mj_camlight(self.model, self.data)  # the moved camera's pose (cam_pos / cam_quat) into data
         self.rgb.update_scene(self.data, camera=self.cam_id)
         image = self.rgb.render()
         if not segmentation:
