@@ -1,0 +1,818 @@
+"""Choreography generator: composes basic movements into joint trajectories of the 34-DOF digital dancer.
+
+Each motor group (head, neck, trunk, left arm, right arm, legs) gets its own sequence of primitives on the
+genre's beat grid: ``hold``, ``move`` (to a new target, trapezoidal velocity, single or double joint), ``swing``
+(oscillation), ``circle`` (two joints in quadrature), ``jitter`` (fast irregular shaking: Unknown), plus leg
+phrases (gestures of one leg with the other as stance, plie / releve, turns, hip isolations with both feet
+planted: shift, wave, circle, figure 8, shimmy) and a somersault. Every trajectory stays inside the joint ranges
+shrunk by :data:`MARGIN_RAD`, is C1-smooth, and the root is placed afterwards: its height puts the lowest sole
+point on the floor (z = 0), its horizontal position keeps the stance foot fixed (no skating); during a flip it
+follows a ballistic arc.
+
+Ground-truth labels: frames get the label of the primitive that produced them where the primitive defines a
+shape (circles, swings, figure 8, jitter = Unknown, somersault); directional, hold and foot-state labels come
+from the taxonomy's rules applied to the generator's exact, noise-free kinematics
+(:class:`hdvr.movements.labeller.MovementLabeller` with ``patterns=False, smooth=False``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.ndimage import maximum_filter1d, uniform_filter1d
+
+from hdvr import dh
+from hdvr.movements.labeller import MovementLabeller, _runs
+from hdvr.movements.taxonomy import load_taxonomy
+from hdvr.skeleton import ROOT_QPOS, Skeleton
+from hdvr.synth.genres import GenreStyle, genre_style
+
+MARGIN_RAD = 0.05
+JI = {n: i for i, n in enumerate(dh.JOINT_NAMES)}
+LOWER = dh.LOWER + MARGIN_RAD
+UPPER = dh.UPPER - MARGIN_RAD
+#: The generator's rest pose: the dancer's rest pose moved inside the margins (knees and toes bend 0.05 rad).
+REST = np.clip(dh.REST_Q, LOWER, UPPER)
+SOLE_KEYPOINTS = {"left": (19, 20, 21), "right": (22, 23, 24)}  # big toe, small toe, heel (BODY_25 indices)
+
+
+def _j(*names):
+    return [JI[n] for n in names]
+
+
+GROUP_JOINTS = {
+    "head": _j("neck_twist", "head_nod"),
+    "neck": _j("neck_bend", "neck_flex"),
+    "trunk": _j("lumbar_flex", "lumbar_bend", "lumbar_twist"),
+    "left_arm": _j("left_shoulder_abduct", "left_shoulder_flex", "left_shoulder_rotate", "left_elbow_flex"),
+    "right_arm": _j("right_shoulder_abduct", "right_shoulder_flex", "right_shoulder_rotate", "right_elbow_flex"),
+}
+# Body parts that see a shape made by a group's joints (declared pattern labels go to these parts).
+ARM_PARTS = {"shoulder": ("upper_arm", "lower_arm"), "forearm": ("lower_arm",)}
+
+
+def leg_joints(side: str) -> dict[str, int]:
+    return {k: JI[f"{side}_{k}"] for k in ("hip_adduct", "hip_extend", "hip_rotate", "knee_flex", "ankle_plantarflex",
+                                            "ankle_invert", "toe_flex")}
+
+
+def ramp_profile(n: int, ramp: float = 0.2) -> np.ndarray:
+    """Progress 0 -> 1 over n frames with a trapezoidal velocity (ramps ``ramp`` of the duration each side)."""
+    if n <= 1:
+        return np.ones(max(n, 0))
+    tau = (np.arange(n) + 1) / n
+    v = np.minimum(1.0, np.minimum(tau / ramp, (1 - tau + 1.0 / n) / ramp))
+    v = np.clip(v, 0, 1)
+    # smooth the corners of the trapezoid (C1 progress)
+    v = np.convolve(np.pad(v, 2, mode="edge"), np.ones(5) / 5, mode="valid")
+    p = np.cumsum(v)
+    return p / p[-1]
+
+
+def envelope(n: int, fps: float, ramp_s: float = 0.2) -> np.ndarray:
+    r = max(1, int(round(ramp_s * fps)))
+    e = np.ones(n)
+    k = min(r, n // 2)
+    if k > 0:
+        rise = 0.5 - 0.5 * np.cos(np.linspace(0, np.pi, k))
+        e[:k] = rise
+        e[n - k:] = rise[::-1]
+    return e
+
+
+@dataclass
+class Declared:
+    """A primitive's declared shape label: frames [start, end), parts it applies to, label kind or name."""
+
+    start: int
+    end: int
+    parts: tuple[str, ...]
+    label: str  # "circle" | "oscillation" | "figure8" | "jitter" (-> Unknown) | "somersault"
+
+
+@dataclass
+class Choreography:
+    """One dancer's motion. ``qpos`` (T, 41) world; ``keypoints`` (T, 25, 3) world metres; ``labels`` (T, 16) global
+    label ids; ``airborne`` (T,) bool (flip frames); ``primitives`` list of (group, kind, start, end)."""
+
+    genre: str
+    fps: float
+    qpos: np.ndarray
+    keypoints: np.ndarray
+    labels: np.ndarray
+    airborne: np.ndarray
+    primitives: list = field(default_factory=list)
+    declared: list = field(default_factory=list)
+    stance: np.ndarray | None = None  # (T,) 0 both / automatic, 1 left foot, 2 right foot carries the weight
+
+
+class _Track:
+    """One motor group's joint trajectories being written frame by frame."""
+
+    def __init__(self, hinges: np.ndarray, joints: list[int]):
+        self.h = hinges
+        self.joints = joints
+        self.t = 0
+
+    def current(self):
+        return self.h[max(self.t - 1, 0), self.joints].copy() if self.t > 0 else self.h[0, self.joints].copy()
+
+
+class ChoreographyGenerator:
+    """Builds one dancer's choreography for a genre. Deterministic for a given ``rng`` state."""
+
+    def __init__(self, skeleton: Skeleton | None = None, fps: float = 30.0):
+        self.sk = skeleton or Skeleton()
+        self.fps = float(fps)
+        self.tax = load_taxonomy()
+        self.rule_labeller = MovementLabeller(self.tax, patterns=False, smooth=True)
+
+    # ---- helpers ---------------------------------------------------------------------------------------------
+    def _beat_frames(self, style: GenreStyle, bpm: float) -> float:
+        return self.fps * 60.0 / bpm
+
+    def _speed(self, style, rng):
+        return rng.uniform(*style.speed)
+
+    def _target(self, joints, current, style, rng, min_delta=0.3):
+        """A new target for one or two of ``joints`` that moves at least ``min_delta`` rad."""
+        target = current.copy()
+        k = rng.choice(len(joints), size=1 if rng.random() < 0.7 else min(2, len(joints)), replace=False)
+        for i in k:
+            j = joints[i]
+            lo = REST[j] + style.amplitude * (LOWER[j] - REST[j])
+            hi = REST[j] + style.amplitude * (UPPER[j] - REST[j])
+            for _ in range(8):
+                v = rng.uniform(lo, hi)
+                if abs(v - current[i]) >= min(min_delta, 0.45 * (hi - lo)):
+                    break
+            target[i] = v
+        return target
+
+    def _write_move(self, h, joints, t0, start, target, speed):
+        delta = np.max(np.abs(target - start))
+        n = max(int(round(self.fps * delta / max(speed * 0.8, 1e-3))), int(0.15 * self.fps), 2)
+        full = n
+        n = min(n, h.shape[0] - t0)
+        if n <= 0:
+            return 0
+        p = ramp_profile(full)[:n, None]  # a move cut by the end of the clip keeps its speed
+        h[t0:t0 + n][:, joints] = start + (target - start) * p
+        return n
+
+    def _hold(self, h, joints, t0, n, value):
+        n = min(n, h.shape[0] - t0)
+        if n > 0:
+            h[t0:t0 + n][:, joints] = value
+        return max(n, 0)
+
+    def _oscillate(self, h, joints, t0, value, amps, phases, freq, periods, freq_mult=None):
+        """value + env * amps * sin(2 pi f t + phase) on ``joints`` (amplitudes clipped to stay in range)."""
+        n = min(int(round(self.fps * periods / freq)), h.shape[0] - t0)
+        if n < int(0.6 * self.fps):
+            return 0
+        t = np.arange(n) / self.fps
+        env = envelope(n, self.fps)
+        mult = freq_mult or [1.0] * len(joints)
+        for i, j in enumerate(joints):
+            a = min(amps[i], value[i] - LOWER[j], UPPER[j] - value[i])
+            h[t0:t0 + n, j] = value[i] + env * a * np.sin(2 * np.pi * freq * mult[i] * t + phases[i])
+        return n
+
+    def _jitter(self, h, joints, t0, value, amp, rng):
+        n = min(int(round(self.fps * rng.uniform(0.8, 1.4))), h.shape[0] - t0)
+        if n < int(0.5 * self.fps):
+            return 0
+        t = np.arange(n) / self.fps
+        env = envelope(n, self.fps, 0.1)
+        for i, j in enumerate(joints):
+            a = min(amp, value[i] - LOWER[j], UPPER[j] - value[i])
+            sig = sum(np.sin(2 * np.pi * rng.uniform(3.2, 4.2) * t + rng.uniform(0, 2 * np.pi)) for _ in range(2)) / 1.6
+            h[t0:t0 + n, j] = value[i] + env * a * sig
+        return n
+
+    # ---- upper body groups -----------------------------------------------------------------------------------
+    def _group(self, h, group, style, weights, beat, rng, declared, prims, parts_for_shape):
+        joints = GROUP_JOINTS[group]
+        T = h.shape[0]
+        t = int(rng.integers(0, max(1, int(beat))))
+        h[:t, joints] = h[0, joints]
+        kinds = list(weights)
+        w = np.array([weights[k] for k in kinds], dtype=float)
+        while t < T:
+            cur = h[t - 1, joints].copy() if t > 0 else h[0, joints].copy()
+            h[t:, joints] = cur  # joints a primitive does not drive hold their value
+            kind = kinds[rng.choice(len(kinds), p=w / w.sum())]
+            n = 0
+            if kind == "move":
+                target = self._target(joints, cur, style, rng)
+                if group.endswith("_arm") and rng.random() < 0.25:  # raise the arm above the horizontal
+                    k = int(rng.integers(0, 2))
+                    target[k] = rng.uniform(1.78, 1.9)
+                    if abs(target[k] - cur[k]) < 0.3:
+                        target[k] = rng.uniform(0.0, 0.6)
+                n = self._write_move(h, joints, t, cur, target, self._speed(style, rng))
+            elif kind in ("swing", "circle", "jitter", "forearm"):
+                pre, m, shape_parts, label = self._shape(h, group, joints, t, cur, kind, style, rng)
+                n = pre + m if m else 0
+                if m:
+                    declared.append(Declared(t + pre, t + pre + m, shape_parts, label))
+            if n == 0:
+                kind = "hold"
+            if kind != "hold":
+                prims.append((group, kind, t, t + n))
+            t += n
+            hold = int(round(beat * rng.choice([1, 1, 2, 3] if kind != "hold" else [1, 2, 4]))) if t < T else 0
+            hold = max(hold, int(0.4 * self.fps))
+            t += self._hold(h, joints, t, hold, h[t - 1, joints] if t > 0 else cur)
+
+    def _settle(self, h, joints, t, cur, centre):
+        """Move ``joints`` to ``centre`` and hold 0.3 s (so a shape starts from rest, as its own movement)."""
+        n = self._write_move(h, joints, t, cur, centre, 2.0) if np.max(np.abs(centre - cur)) > 1e-6 else 0
+        n += self._hold(h, joints, t + n, int(0.45 * self.fps), centre)
+        h[t + n:, joints] = centre  # the shape then drives some of these joints; the others stay here
+        return n
+
+    def _shape(self, h, group, joints, t, cur, kind, style, rng):
+        """A shaped primitive: returns (frames before the shape, shape frames, parts, declared label)."""
+        freq = rng.uniform(*style.osc_hz)
+        periods = rng.uniform(2.0, 3.5)
+        prev = h[max(t - 1, 0)].copy()
+        if kind == "jitter":
+            if group == "trunk":
+                sel = _j("lumbar_flex", "lumbar_twist") if rng.random() < 0.5 else _j("lumbar_bend", "lumbar_twist")
+                parts = ("torso",) if JI["lumbar_bend"] not in sel else ("torso", "left_shoulder", "right_shoulder")
+            else:
+                sel = joints[:2]
+                parts = self._parts_for_shape(group, kind)
+            centre = np.clip(prev[sel], LOWER[sel] + 0.1, UPPER[sel] - 0.1)
+            pre = self._settle(h, sel, t, prev[sel], centre)
+            amp = 0.06 if group in ("head", "neck", "trunk") else 0.08
+            return pre, self._jitter(h, sel, t + pre, centre, amp, rng), parts, "jitter"
+        if group in ("left_arm", "right_arm"):
+            side = group.split("_")[0]
+            if kind == "forearm":
+                sel = _j(f"{side}_shoulder_rotate", f"{side}_elbow_flex")
+                centre = np.array([rng.uniform(-2.0, -1.1), -0.75])
+                pre = self._settle(h, sel, t, prev[sel], centre)
+                m = self._oscillate(h, sel, t + pre, centre, [0.5, 0.55], [0.0, np.pi / 2], freq, periods)
+                return pre, m, (f"{side}_lower_arm",), "circle"
+            sel = _j(f"{side}_shoulder_abduct", f"{side}_shoulder_flex")
+            centre = np.r_[rng.uniform(0.3, 0.9), rng.uniform(0.2, 0.8), cur[2], rng.uniform(-0.3, 0.0)]
+            pre = self._settle(h, joints, t, cur, centre)
+            if kind == "circle":
+                m = self._oscillate(h, sel, t + pre, centre[:2], [0.45, 0.45], [0.0, np.pi / 2], freq, periods)
+            else:
+                m = self._oscillate(h, sel[1:], t + pre, centre[1:2], [0.6], [0.0], freq, periods)
+            return pre, m, (f"{side}_upper_arm", f"{side}_lower_arm"), "circle" if kind == "circle" else "oscillation"
+        if group == "trunk":
+            if kind == "circle":  # side bend + twist in quadrature: shoulders circle, the trunk swings
+                sel = _j("lumbar_bend", "lumbar_twist")
+                centre = np.zeros(2)
+                pre = self._settle(h, sel, t, prev[sel], centre)
+                m = self._oscillate(h, sel, t + pre, centre, [0.2, 0.3], [0.0, np.pi / 2], freq, periods)
+                return pre, m, ("torso", "left_shoulder", "right_shoulder"), "circle"
+            j = int(rng.choice(_j("lumbar_flex", "lumbar_twist")))
+            centre = np.zeros(1)
+            pre = self._settle(h, [j], t, prev[[j]], centre)
+            m = self._oscillate(h, [j], t + pre, centre, [0.25 if j != JI["lumbar_twist"] else 0.35], [0.0], freq,
+                                periods)
+            return pre, m, ("torso",), "oscillation"
+        if group in ("head", "neck") and kind == "circle":
+            sel = _j("neck_twist", "head_nod") if group == "head" else _j("neck_bend", "neck_flex")
+            centre = np.zeros(2)
+            pre = self._settle(h, sel, t, prev[sel], centre)
+            amps = [0.35, 0.3] if group == "head" else [0.3, 0.3]
+            m = self._oscillate(h, sel, t + pre, centre, amps, [0.0, np.pi / 2], freq, periods)
+            return pre, m, (group,), "circle"
+        return 0, 0, (), ""
+
+    @staticmethod
+    def _parts_for_shape(group, kind):
+        if group in ("left_arm", "right_arm"):
+            side = group.split("_")[0]
+            return (f"{side}_upper_arm", f"{side}_lower_arm")
+        if group == "trunk":
+            return ("torso",)
+        return (group,)
+
+    # ---- legs ------------------------------------------------------------------------------------------------
+    def _legs(self, h, yaw, pitch, style, beat, rng, declared, prims):
+        T = h.shape[0]
+        L, R = leg_joints("left"), leg_joints("right")
+        allj = sorted(set(L.values()) | set(R.values()))
+        kinds = list(style.legs)
+        w = np.array([style.legs[k] for k in kinds], dtype=float)
+        t = 0
+        while t < T:
+            cur = h[t - 1, allj].copy() if t > 0 else h[0, allj].copy()
+            h[t:, allj] = cur  # joints a phrase does not drive hold their value
+            kind = kinds[rng.choice(len(kinds), p=w / w.sum())]
+            n = 0
+            # phrases other than gestures start from both feet flat on the floor
+            neutral = REST[allj].copy()
+            if kind != "gesture" and np.max(np.abs(cur - neutral)) > 1e-6:
+                t += self._write_move(h, allj, t, cur, neutral, 2.0)
+                t += self._hold(h, allj, t, int(0.4 * self.fps), neutral)
+                continue
+            if kind in ("plie", "relieve"):
+                target = neutral.copy()
+                if kind == "plie":
+                    phi = rng.uniform(0.3, 0.55) * style.amplitude / 0.8
+                    phi = min(phi, 0.6)
+                    for s in (L, R):
+                        target[allj.index(s["hip_extend"])] = -phi
+                        target[allj.index(s["knee_flex"])] = 2 * phi
+                        target[allj.index(s["ankle_plantarflex"])] = -phi
+                else:
+                    phi = rng.uniform(0.55, 0.9)
+                    for s in (L, R):
+                        target[allj.index(s["ankle_plantarflex"])] = phi
+                        target[allj.index(s["toe_flex"])] = -min(phi, 1.3)
+                n = self._write_move(h, allj, t, cur, target, rng.uniform(1.2, 2.0))
+                n += self._hold(h, allj, t + n, int(beat * rng.choice([1, 2])), target)
+                n += self._write_move(h, allj, t + n, target, neutral, rng.uniform(1.2, 2.0))
+            elif kind == "turn":
+                side = rng.choice(["left", "right"])
+                G = leg_joints(side)
+                gj = [G["hip_adduct"], G["hip_extend"], G["hip_rotate"], G["knee_flex"]]
+                phi = rng.uniform(0.65, 0.8)
+                lifted = REST[gj] + np.array([0.0, -phi, 0.0, 2 * phi])  # thigh forward, shank back: foot rises
+                passe = lifted + np.array([0.0, 0.0, rng.uniform(0.0, 0.8), 0.0])
+                speed = self._speed(style, rng)
+                up = self._write_move(h, gj, t, h[t - 1, gj] if t else h[0, gj], lifted, speed)
+                up += self._write_move(h, gj, t + up, lifted, passe, speed)
+                spin = self._turn(h, yaw, t + up, style, beat, rng)
+                self._hold(h, gj, t + up, spin, passe)
+                self.airtime[t + up:t + up + spin] = True
+                down = self._write_move(h, gj, t + up + spin, passe, lifted, speed)
+                down += self._write_move(h, gj, t + up + spin + down, lifted, REST[gj], speed)
+                n = up + spin + down
+                self.stance[t:t + n] = 2 if side == "left" else 1
+            elif kind == "flip":
+                n = self._flip(pitch, t, rng)
+                if n:
+                    declared.append(Declared(t, t + n, ("torso",), "somersault"))
+                    h[t:t + n, allj] = neutral
+            elif kind.startswith("hips_"):
+                n = self._hips(h, t, kind, style, rng, L, R)
+                if n and kind != "hips_shift":
+                    lab = {"hips_circle": "circle", "hips_eight": "figure8", "hips_wave": "oscillation",
+                           "hips_jitter": "jitter"}[kind]
+                    declared.append(Declared(t, t + n, ("hips",), lab))
+            elif kind == "gesture":
+                n = self._gesture(h, t, style, beat, rng, declared, prims)
+            if n == 0:
+                kind = "hold"
+                n = self._hold(h, allj, t, int(beat), cur)
+            if kind != "hold":
+                prims.append(("legs", kind, t, t + n))
+            t += n
+            t += self._hold(h, allj, t, max(int(beat * rng.choice([1, 2])), int(0.4 * self.fps)), h[t - 1, allj])
+
+    def _turn(self, h, yaw, t, style, beat, rng):
+        T = h.shape[0]
+        angle = rng.choice([-1, 1]) * rng.uniform(0.5, 1.0) * 2 * np.pi * (2 if style.name == "ballet" else 1)
+        rate = rng.uniform(3.0, 6.0)
+        full = max(int(round(self.fps * abs(angle) / rate)), 4)
+        n = min(full, T - t)
+        if n < 4:
+            return 0
+        yaw[t:t + n] = yaw[t - 1 if t else 0] + angle * ramp_profile(full, 0.15)[:n]
+        yaw[t + n:] = yaw[t + n - 1]
+        return n
+
+    def _flip(self, pitch, t, rng):
+        n = int(round(self.fps * rng.uniform(0.65, 0.8)))
+        if t + n >= pitch.shape[0]:
+            return 0
+        pitch[t:t + n] = pitch[t] + 2 * np.pi * ramp_profile(n, 0.1) * rng.choice([-1, 1])
+        pitch[t + n:] = pitch[t + n - 1]
+        return n
+
+    def _hips(self, h, t, kind, style, rng, L, R):
+        """Hip isolations with both feet planted: the legs tilt as a parallelogram (lateral: hip ab/adduction with
+        ankle inversion; sagittal: hip flexion with plantarflexion), small enough that the legs stay below the
+        still threshold while the pelvis moves several centimetres."""
+        T = h.shape[0]
+        freq = rng.uniform(0.8, 1.05)
+        if kind == "hips_shift":
+            amp = rng.uniform(0.035, 0.045) * rng.choice([-1, 1])
+            n = min(int(round(self.fps * rng.uniform(0.3, 0.45))), T - t)
+            lat = amp * ramp_profile(n)
+            sag = np.zeros(n)
+            back_hold = int(round(self.fps * rng.uniform(0.4, 0.7)))
+            lat = np.r_[lat, np.full(back_hold, amp), amp * (1 - ramp_profile(n))]
+            sag = np.zeros(lat.shape[0])
+        elif kind == "hips_jitter":
+            n = int(round(self.fps * rng.uniform(0.8, 1.3)))
+            tt = np.arange(n) / self.fps
+            env = envelope(n, self.fps, 0.1)
+            lat = 0.008 * env * sum(np.sin(2 * np.pi * rng.uniform(3.2, 4.2) * tt + rng.uniform(0, 6.3)) for _ in range(2))
+            sag = np.zeros(n)
+        else:
+            periods = rng.uniform(2.2, 3.5)
+            n = int(round(self.fps * periods / freq))
+            tt = np.arange(n) / self.fps
+            env = envelope(n, self.fps, 0.25)
+            a = 0.04
+            w = 2 * np.pi * freq
+            if kind == "hips_circle":
+                lat, sag = a * env * np.sin(w * tt), a * env * np.cos(w * tt) - a * env
+            elif kind == "hips_eight":
+                lat, sag = a * env * np.sin(w * tt), 0.6 * a * env * np.sin(2 * w * tt)
+            else:  # wave: side-to-side sway
+                lat, sag = a * env * np.sin(w * tt), np.zeros(n)
+        n = min(lat.shape[0], T - t)
+        lat, sag = lat[:n], sag[:n]
+        for s, sign in ((L, 1.0), (R, -1.0)):
+            h[t:t + n, s["hip_adduct"]] = sign * lat
+            h[t:t + n, s["ankle_invert"]] = -sign * lat
+            h[t:t + n, s["hip_extend"]] = sag
+            h[t:t + n, s["ankle_plantarflex"]] = -sag
+        return n
+
+    def _gesture(self, h, t, style, beat, rng, declared, prims):
+        """One leg gestures (lift, 1-3 primitives, return) while the other stands still."""
+        T = h.shape[0]
+        side = rng.choice(["left", "right"])
+        G = leg_joints(side)
+        gj = [G["hip_adduct"], G["hip_extend"], G["hip_rotate"], G["knee_flex"], G["ankle_plantarflex"]]
+        t0 = t
+        gesture_side = side
+        cur = h[t - 1, gj].copy() if t > 0 else h[0, gj].copy()
+        amp = style.amplitude
+        lift = np.array([rng.uniform(-0.35, 0.0) * amp, rng.uniform(-0.7, 0.3) * amp, rng.uniform(-0.4, 0.6),
+                         rng.uniform(0.35, 1.2), 0.0])  # the foot stays flexed until the leg is up
+        phi = rng.uniform(0.3, 0.45)
+        vertical = np.array([cur[0], -phi, cur[2], 2 * phi + REST[gj[3]], 0.0])  # the foot rises straight up
+        t += self._write_move(h, gj, t, cur, vertical, self._speed(style, rng))
+        t += self._hold(h, gj, t, int(0.35 * self.fps), vertical)
+        h[t:, gj] = vertical
+        t += self._write_move(h, gj, t, vertical, lift, self._speed(style, rng))
+        t += self._hold(h, gj, t, int(0.35 * self.fps), lift)
+        h[t:, gj] = lift
+        lifted_from = t
+        kinds = list(style.gesture)
+        w = np.array([style.gesture[k] for k in kinds], dtype=float)
+        for _ in range(int(rng.integers(1, 4))):
+            if t >= T:
+                break
+            cur = h[t - 1, gj].copy()
+            h[t:, gj + [G["ankle_invert"]]] = h[t - 1, gj + [G["ankle_invert"]]]
+            kind = kinds[rng.choice(len(kinds), p=w / w.sum())]
+            n = 0
+            if kind == "move" and rng.random() < 0.5:  # a held leg position: front, side, back or high
+                tgt = cur.copy()
+                pos = rng.choice(["front", "side", "back", "high"])
+                tgt[:4] = {"front": [0.0, -rng.uniform(0.7, 1.0), cur[2], rng.uniform(0.0, 0.1)],
+                           "side": [-rng.uniform(0.6, 0.85), -rng.uniform(0.0, 0.1), cur[2], 0.0],
+                           "back": [0.0, rng.uniform(0.5, 0.75), cur[2], rng.uniform(0.0, 1.3)],
+                           "high": [-rng.uniform(0.0, 0.3), -rng.uniform(1.6, 1.9), cur[2], rng.uniform(0.0, 0.2)]}[pos]
+                n = self._write_move(h, gj, t, cur, tgt, self._speed(style, rng))
+            elif kind == "move":
+                tgt = cur.copy()
+                j = rng.choice([0, 1, 3])
+                lo, hi = {0: (-0.9 * amp, 0.1), 1: (-1.5 * amp, 0.5), 3: (0.2, 1.9)}[j]
+                tgt[j] = rng.uniform(lo, hi)
+                if abs(tgt[j] - cur[j]) < 0.35:
+                    tgt[j] = np.clip(cur[j] + np.sign(rng.random() - 0.5) * 0.5, lo, hi)
+                n = self._write_move(h, gj, t, cur, tgt, self._speed(style, rng))
+            elif kind == "kick":
+                tgt = cur.copy()
+                tgt[1] = -rng.uniform(1.3, 1.8) * amp  # straight out and back: only the hip moves
+                fast = rng.uniform(8.0, 10.0)
+                n = self._write_move(h, gj, t, cur, tgt, fast)
+                n += self._write_move(h, gj, t + n, tgt, cur, fast)
+            elif kind in ("swing", "circle"):
+                centre = cur.copy()
+                centre[1] = rng.uniform(-0.9, -0.5) * amp
+                centre[0] = rng.uniform(-0.5, -0.3) if kind == "circle" else cur[0]
+                centre[3] = rng.uniform(0.0, 0.2)
+                pre = self._settle(h, gj, t, cur, centre)
+                freq = rng.uniform(*style.osc_hz)
+                if kind == "circle":
+                    sel = [G["hip_adduct"], G["hip_extend"]]
+                    m = self._oscillate(h, sel, t + pre, centre[:2], [0.3, 0.35], [0.0, np.pi / 2], freq,
+                                        rng.uniform(2, 3))
+                    lab = "circle"
+                else:
+                    m = self._oscillate(h, [G["hip_extend"]], t + pre, centre[1:2], [0.45], [0.0], freq,
+                                        rng.uniform(2, 3))
+                    lab = "oscillation"
+                if m:
+                    declared.append(Declared(t + pre, t + pre + m, (f"{side}_upper_leg", f"{side}_lower_leg"), lab))
+                n = pre + m
+            elif kind == "knee":
+                centre = cur.copy()
+                centre[3] = rng.uniform(0.9, 1.3)
+                centre[1] = min(cur[1], -0.3)
+                pre = self._settle(h, gj, t, cur, centre)
+                m = self._oscillate(h, [G["knee_flex"]], t + pre, centre[3:4], [0.55], [0.0],
+                                    rng.uniform(*style.osc_hz), rng.uniform(2, 3))
+                if m:
+                    declared.append(Declared(t + pre, t + pre + m, (f"{side}_lower_leg",), "oscillation"))
+                n = pre + m
+            elif kind == "foot":
+                tgt = cur.copy()
+                tgt[4] = rng.choice([rng.uniform(0.8, 1.3), rng.uniform(-0.7, -0.5), 0.0])
+                n = self._write_move(h, gj, t, cur, tgt, rng.uniform(3.0, 6.0))
+                if rng.random() < 0.3:  # roll the foot on its edge: no label (Unknown)
+                    inv = G["ankle_invert"]
+                    m = self._write_move(h, [inv], t, h[t - 1, [inv]], np.array([rng.choice([-1, 1]) * 0.45]), 3.0)
+                    m += self._hold(h, [inv], t + m, int(beat), h[t + m - 1, [inv]])
+                    m += self._write_move(h, [inv], t + m, h[t + m - 1, [inv]], np.array([0.0]), 3.0)
+                    h[t + n:t + m, gj] = h[t + n - 1, gj] if m > n else h[t + n:t + m, gj]
+                    n = max(n, m)
+            elif kind == "jitter":
+                sel = [G["hip_extend"], G["hip_adduct"]]
+                n = self._jitter(h, sel, t, h[t - 1, sel], 0.08, rng)
+                if n:
+                    declared.append(Declared(t, t + n, (f"{side}_upper_leg", f"{side}_lower_leg"), "jitter"))
+            if kind != "hold" and n:
+                prims.append((f"{side}_leg", kind, t, t + n))
+            t += n
+            t += self._hold(h, gj + [G["ankle_invert"]], t, max(int(beat), int(0.4 * self.fps)),
+                            h[t - 1, gj + [G["ankle_invert"]]])
+        self.airtime[lifted_from:t] = True  # the gesture foot must clear the floor here
+        if t < T:  # relax the foot while the leg is still up, then put the leg down
+            both = gj + [G["ankle_invert"]]
+            cur = h[t - 1, both].copy()
+            flat = cur.copy()
+            flat[4:] = 0.0
+            if np.max(np.abs(flat - cur)) > 1e-6:
+                t += self._write_move(h, both, t, cur, flat, self._speed(style, rng))
+                t += self._hold(h, both, t, int(0.35 * self.fps), flat)
+                h[t:, both] = flat
+            vertical = np.r_[0.0, -0.35, 0.0, 0.7, 0.0, 0.0] + REST[both]  # and lands straight down
+            t += self._write_move(h, both, t, flat, vertical, self._speed(style, rng))
+            t += self._hold(h, both, t, int(0.35 * self.fps), vertical)
+            h[t:, both] = vertical
+            t += self._write_move(h, both, t, vertical, REST[both], self._speed(style, rng))
+        self.stance[t0:t] = 2 if gesture_side == "left" else 1
+        return t - t0
+
+    # ---- root placement --------------------------------------------------------------------------------------
+    def _steady_head(self, h, declared, iterations=2):
+        """Neck circles and shakes tilt the neck as an Euler sequence, which also turns the head a little about
+        the neck (twice per circle). Cancel that with the neck twist, so the head holds its own direction."""
+        from hdvr.movements.labeller import body_signals
+
+        j = JI["neck_twist"]
+        tilt = _j("neck_bend", "neck_flex")
+        for d in declared:
+            if d.parts != ("neck",):
+                continue
+            s, e = d.start, min(d.end, h.shape[0])
+
+            def head_yaw(hinges):
+                q = np.zeros((e - s, 41))
+                q[:, 3] = 1.0
+                q[:, ROOT_QPOS:] = hinges
+                return body_signals(self.sk.keypoints(q))["head"].components[:, 0]
+
+            still_neck = h[s:e].copy()
+            still_neck[:, tilt] = h[s, tilt]  # the same head motion without the neck's shape
+            reference = head_yaw(still_neck)
+            for _ in range(iterations):  # the shape's envelope starts and ends at rest: so does the correction
+                h[s:e, j] = np.clip(h[s:e, j] - (head_yaw(h[s:e]) - reference), LOWER[j], UPPER[j])
+        return h
+
+    def _clear_gesture_foot(self, h, stance, clearance=0.02, iterations=6):
+        """Raise a gesturing foot that would come closer to the floor than the standing foot + ``clearance``
+        (m) by bending its knee more, while the leg is up (``self.airtime``: between the straight-up lift and the
+        straight-down landing of each phrase). Keeps the weight on the standing leg."""
+        if not (stance > 0).any():
+            return h
+        rows = np.flatnonzero(stance > 0)
+        taper = uniform_filter1d(self.airtime.astype(float), 5, mode="nearest")
+        want = clearance * taper
+        shank = float(self.sk.bone_lengths[7])
+        for _ in range(iterations):
+            q = np.zeros((rows.size, 41))
+            q[:, 3] = 1.0
+            q[:, ROOT_QPOS:] = h[rows]
+            kp = self.sk.keypoints(q)
+            low = {s: kp[:, list(ix), 2].min(1) for s, ix in SOLE_KEYPOINTS.items()}
+            changed = False
+            for code, stand, gest in ((1, "left", "right"), (2, "right", "left")):
+                sel = stance[rows] == code
+                deficit = np.where(sel, low[stand] + want[rows] - low[gest], 0.0)
+                if not (deficit > 1e-4).any():
+                    continue
+                changed = True
+                j = JI[f"{gest}_knee_flex"]
+                raw = np.zeros(h.shape[0])
+                raw[rows] = np.arccos(np.clip(1 - np.maximum(deficit, 0) / shank, -1, 1))
+                # a smooth upper envelope: widen the peaks, then average (slope <= peak / 9 per frame)
+                extra = uniform_filter1d(maximum_filter1d(raw, 9, mode="nearest"), 9, mode="nearest")
+                h[:, j] = np.clip(h[:, j] + extra * taper * (stance == code), LOWER[j], UPPER[j])
+            if not changed:
+                break
+            # only frames near a remaining deficit need another look (the correction spreads over +-8 frames)
+            near = np.zeros(h.shape[0], dtype=bool)
+            for code, stand, gest in ((1, "left", "right"), (2, "right", "left")):
+                d = np.zeros(h.shape[0])
+                d[rows] = np.where(stance[rows] == code, low[stand] + want[rows] - low[gest], 0.0)
+                near |= maximum_filter1d((d > 1e-4).astype(np.uint8), 17) > 0
+            rows = np.flatnonzero(near & (stance > 0))
+            if rows.size == 0:
+                break
+        return h
+
+    def place_root(self, hinges, yaw, pitch, start_xy, start_yaw, stance=None):
+        """qpos (T, 41) and keypoints (T, 25, 3): lowest sole point on the floor, stance foot pinned, flips airborne."""
+        T = hinges.shape[0]
+        q = np.zeros((T, 41))
+        q[:, ROOT_QPOS:] = hinges
+        ang = start_yaw + yaw
+        half_y, half_p = ang / 2, pitch / 2
+        qz = np.stack([np.cos(half_y), np.zeros(T), np.zeros(T), np.sin(half_y)], 1)
+        qy = np.stack([np.cos(half_p), np.zeros(T), np.sin(half_p), np.zeros(T)], 1)
+        q[:, 3:7] = _quat_mul(qz, qy)
+        rel = self.sk.keypoints(q)  # root at the origin
+        airborne = np.abs(np.gradient(pitch)) > 1e-9
+        airborne = np.convolve(airborne, np.ones(3), mode="same") > 0
+        soles = {s: rel[:, list(ix)] for s, ix in SOLE_KEYPOINTS.items()}
+        lowest = {s: soles[s][..., 2].min(1) for s in soles}
+        root = np.zeros((T, 3))
+        root[:, 2] = -np.minimum(lowest["left"], lowest["right"])  # no sole point below the floor
+        # flips: a ballistic arc high enough that no keypoint goes below the floor
+        for s, e, v in _runs(airborne):
+            if not v:
+                continue
+            n = e - s
+            tt = np.linspace(0, 1, n)
+            need = -rel[s:e, :, 2].min(1) + 0.05
+            base = np.linspace(root[max(s - 1, 0), 2], root[min(e, T - 1), 2], n)
+            apex = max(0.0, float(np.max(need - base)) / 1.0)
+            root[s:e, 2] = np.maximum(base + 4 * apex * tt * (1 - tt) * 1.1, need)
+        # horizontal: pin the stance foot
+        centres = {side: soles[side][..., :2].mean(1) for side in soles}
+        low_l, low_r = lowest["left"].tolist(), lowest["right"].tolist()
+        left_stance = np.empty(T, dtype=bool)
+        stance_left = True
+        forced = np.zeros(T, dtype=np.int8) if stance is None else stance
+        for t in range(T):
+            if forced[t]:
+                stance_left = forced[t] == 1
+            elif stance_left and low_r[t] < low_l[t] - 0.004:
+                stance_left = False
+            elif not stance_left and low_l[t] < low_r[t] - 0.004:
+                stance_left = True
+            left_stance[t] = stance_left
+        stance_centre = np.where(left_stance[:, None], centres["left"], centres["right"])
+        prev_centre = np.where(left_stance[1:, None], centres["left"][:-1], centres["right"][:-1])
+        step = prev_centre - stance_centre[1:]  # move the root so the stance foot stays where it was
+        step[airborne[1:] | airborne[:-1]] = 0.0
+        root[:, :2] = np.asarray(start_xy, dtype=float) + np.r_[np.zeros((1, 2)), np.cumsum(step, axis=0)]
+        q[:, :3] = root
+        return q, rel + root[:, None, :], airborne
+
+    # ---- top level -------------------------------------------------------------------------------------------
+    def generate(self, genre: str, seconds: float, rng: np.random.Generator, start_xy=(0.0, 0.0),
+                 start_yaw: float = 0.0, mirror_of: "Choreography | None" = None) -> Choreography:
+        style = genre_style(genre)
+        T = max(int(round(seconds * self.fps)), 3)
+        bpm = rng.uniform(*style.bpm)
+        beat = self._beat_frames(style, bpm)
+        if mirror_of is not None:
+            return self._mirror(mirror_of, start_xy, start_yaw)
+        h = np.tile(REST, (T, 1))
+        yaw = np.zeros(T)
+        pitch = np.zeros(T)
+        declared: list[Declared] = []
+        prims: list = []
+        for group in ("head", "neck", "trunk"):
+            self._group(h, group, style, getattr(style, group), beat, rng, declared, prims, self._parts_for_shape)
+        if rng.random() < style.symmetric_arms:
+            self._group(h, "left_arm", style, style.arm, beat, rng, declared, prims, self._parts_for_shape)
+            _mirror_arm(h)
+            declared += [Declared(d.start, d.end, tuple(p.replace("left", "right") for p in d.parts), d.label)
+                         for d in declared if any(p.startswith("left_") and "arm" in p for p in d.parts)]
+        else:
+            for group in ("left_arm", "right_arm"):
+                self._group(h, group, style, style.arm, beat, rng, declared, prims, self._parts_for_shape)
+        self.stance = np.zeros(T, dtype=np.int8)
+        self.airtime = np.zeros(T, dtype=bool)
+        self._legs(h, yaw, pitch, style, beat, rng, declared, prims)
+        h = np.clip(h, LOWER, UPPER)
+        h = self._steady_head(h, declared)
+        h = self._clear_gesture_foot(h, self.stance)
+        q, kp, airborne = self.place_root(h, yaw, pitch, start_xy, start_yaw, self.stance)
+        labels = self.ground_truth_labels(kp, declared)
+        return Choreography(style.name, self.fps, q, kp, labels, airborne, prims, declared, self.stance.copy())
+
+    def ground_truth_labels(self, keypoints, declared) -> np.ndarray:
+        """Rules on exact kinematics, then the primitives' declared shape labels on the frames where the part moves
+        (flips and whole-body turns found by the rules stay)."""
+        base = self.rule_labeller.label(keypoints, self.fps)
+        ids = base.ids.copy()
+        for d in declared:
+            for pname in d.parts:
+                part = self.tax.part(pname)
+                col = ids[:, part.index]
+                quiet = np.isin(col, [lab.id for lab in part.labels if lab.kind in ("hold", "still")])
+                special = np.isin(col, [lab.id for lab in part.labels if lab.kind in ("somersault", "turning")])
+                if d.label == "somersault":  # the rule on the exact kinematics marks the flip itself
+                    continue
+                if d.label == "jitter":
+                    lab = part.label("unknown")
+                else:
+                    lab = part.find("pattern", pattern=d.label)
+                    if lab is None:
+                        continue
+                # the whole moving run(s) that the shape makes (smoothing spreads a run by a frame or two)
+                for s, e, q in _runs(quiet):
+                    overlap = max(0, min(e, d.end) - max(s, d.start))
+                    if not q and overlap >= 0.5 * (e - s):
+                        col[s:e] = np.where(special[s:e], col[s:e], lab.id)
+        return ids
+
+    def _mirror(self, lead: Choreography, start_xy, start_yaw) -> Choreography:
+        """The partner: the lead's motion mirrored left/right (a couple facing each other moves as mirror images)."""
+        h = _mirror_hinges(lead.qpos[:, ROOT_QPOS:])
+        yaw = -_unwrapped_yaw(lead.qpos)
+        yaw = yaw - yaw[0]
+        pitch = _unwrapped_pitch(lead.qpos)
+        stance = np.where(lead.stance == 1, 2, np.where(lead.stance == 2, 1, 0)).astype(np.int8)
+        q, kp, airborne = self.place_root(h, yaw, pitch, start_xy, start_yaw, stance)
+        declared = [Declared(d.start, d.end, tuple(_swap_side(p) for p in d.parts), d.label) for d in lead.declared]
+        labels = self.ground_truth_labels(kp, declared)
+        return Choreography(lead.genre, self.fps, q, kp, labels, airborne, list(lead.primitives), declared, stance)
+
+
+def _swap_side(name: str) -> str:
+    if name.startswith("left_"):
+        return "right_" + name[5:]
+    if name.startswith("right_"):
+        return "left_" + name[6:]
+    return name
+
+
+_MIRROR_NEGATE = _j("lumbar_bend", "lumbar_twist", "neck_bend", "neck_twist", "head_roll")
+_MIRROR_PERM = [JI[_swap_side(n)] for n in dh.JOINT_NAMES]
+
+
+def _mirror_hinges(h):
+    out = h[:, _MIRROR_PERM].copy()
+    out[:, _MIRROR_NEGATE] *= -1
+    return out
+
+
+def _mirror_arm(h):
+    for k in ("shoulder_abduct", "shoulder_flex", "shoulder_rotate", "elbow_flex"):
+        h[:, JI[f"right_{k}"]] = h[:, JI[f"left_{k}"]]
+
+
+def _quat_mul(a, b):
+    w1, x1, y1, z1 = a.T
+    w2, x2, y2, z2 = b.T
+    return np.stack([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2], 1)
+
+
+def _unwrapped_yaw(q):
+    w, x, y, z = q[:, 3:7].T
+    return np.unwrap(np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)))
+
+
+def _unwrapped_pitch(q):
+    """Pitch of the generator's yaw * pitch composition (the angle about the body's y axis), unwrapped."""
+    yaw = _unwrapped_yaw(q)
+    half = yaw / 2
+    qz_inv = np.stack([np.cos(half), np.zeros_like(half), np.zeros_like(half), -np.sin(half)], 1)
+    qy = _quat_mul(qz_inv, q[:, 3:7])
+    return np.unwrap(2 * np.arctan2(qy[:, 2], qy[:, 0]))
+
+
+def foot_metrics(keypoints: np.ndarray, airborne: np.ndarray, fps: float, contact_m: float = 0.005,
+                 stance: np.ndarray | None = None) -> dict:
+    """Penetration (m: deepest sole keypoint below z = 0) and skating (m/s) of a motion (T, 25, 3).
+
+    A foot is planted in a frame when its lowest sole point (big toe, small toe, heel) is below ``contact_m``
+    in that frame and the frames before and after (lift-off and touch-down frames are not planted; flips are
+    excluded). Its skating speed between two planted frames is the horizontal speed of the point that moves
+    least among the sole points in contact and the sole centre: zero when the foot pivots about its centre or
+    peels off over its toes, the sliding speed when the whole foot slides. With ``stance`` (T,) (0 both feet,
+    1 left, 2 right carries the weight) only weight-bearing feet count: a gesturing foot that brushes the floor
+    (tendu, lift-off) is not skating."""
+    penetration = float(max(0.0, -keypoints[:, [19, 20, 21, 22, 23, 24], 2].min()))
+    speeds = []
+    for code, ix in ((1, SOLE_KEYPOINTS["left"]), (2, SOLE_KEYPOINTS["right"])):
+        sole = keypoints[:, list(ix)]
+        contact = (sole[..., 2].min(1) < contact_m) & ~airborne
+        if stance is not None:
+            contact &= (stance == 0) | (stance == code)
+        planted = contact & np.r_[False, contact[:-1]] & np.r_[contact[1:], False]
+        both = planted[1:] & planted[:-1]
+        points = np.concatenate([sole, sole.mean(1, keepdims=True)], axis=1)  # (T, 4, 3)
+        v = np.linalg.norm(np.diff(points[..., :2], axis=0), axis=-1) * fps  # (T-1, 4)
+        touching = np.concatenate([sole[..., 2] < contact_m, np.ones((sole.shape[0], 1), bool)], axis=1)
+        v = np.where(touching[1:] & touching[:-1], v, np.inf).min(1)
+        speeds.append(v[both])
+    skate = np.concatenate(speeds)
+    return {"penetration_m": penetration, "skate_max_m_s": float(skate.max()) if skate.size else 0.0,
+            "skate_p99_m_s": float(np.percentile(skate, 99)) if skate.size else 0.0,
+            "skate_mean_m_s": float(skate.mean()) if skate.size else 0.0}

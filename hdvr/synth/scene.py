@@ -1,0 +1,190 @@
+"""Multi-dancer scenes: placement, clothing, stage (floor, backdrop, lights) and the MJCF with N dancers.
+
+The scene MJCF holds N copies of the digital dancer (:func:`hdvr.dancer_model.build_mjcf` at each dancer's
+height), names prefixed ``d{i}_``, in order, so the scene's qpos is the concatenation of the dancers' (41,)
+qpos. Clothing: per dancer a top and a bottom material (built-in flat / checker / gradient textures in two
+random colours), skin for head, neck, forearms and hands. Collisions between dancers are disabled (the scene
+is kinematic; contype/conaffinity 0). Shadows, reflections and the skybox are off for speed; the background is
+a textured backdrop (three walls).
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+
+import numpy as np
+
+from hdvr.dancer_model import build_mjcf
+
+SKIN_TONES = np.array([[0.96, 0.80, 0.69], [0.87, 0.67, 0.52], [0.76, 0.57, 0.42], [0.55, 0.38, 0.26],
+                       [0.40, 0.27, 0.18], [0.93, 0.75, 0.60]])
+TOP_BODIES = ("torso", "neck_geom_never", "left_upper_arm", "right_upper_arm")
+BOTTOM_BODIES = ("pelvis", "left_thigh", "right_thigh", "left_shank", "right_shank")
+SHOE_BODIES = ("left_foot", "right_foot", "left_toes", "right_toes")
+
+
+@dataclass
+class DancerLook:
+    """Clothing of one dancer: RGB in [0, 1], texture kinds (``flat``, ``checker``, ``gradient``), skin tone."""
+
+    top_rgb: tuple
+    top_rgb2: tuple
+    top_kind: str
+    bottom_rgb: tuple
+    bottom_rgb2: tuple
+    bottom_kind: str
+    skin_rgb: tuple
+    shoe_rgb: tuple
+
+
+@dataclass
+class Stage:
+    """Floor, backdrop and lighting of a scene."""
+
+    floor_rgb: tuple
+    floor_rgb2: tuple
+    floor_kind: str
+    floor_repeat: float
+    wall_rgb: tuple
+    wall_rgb2: tuple
+    wall_kind: str
+    headlight_ambient: float
+    headlight_diffuse: float
+    lights: list  # (pos (3,), dir (3,), diffuse) per light
+
+
+def _distinct_colours(rng: np.random.Generator, n: int) -> list[np.ndarray]:
+    """n saturated colours with well separated hues."""
+    offset = rng.uniform(0, 1)
+    hues = (offset + np.arange(n) / max(n, 1) + rng.uniform(-0.05, 0.05, n)) % 1.0
+    out = []
+    for h in hues:
+        s, v = rng.uniform(0.55, 0.95), rng.uniform(0.45, 0.95)
+        k = (np.array([5, 3, 1]) + h * 6) % 6
+        out.append(v - v * s * np.clip(np.minimum(k, 4 - k), 0, 1))
+    return out
+
+
+def random_looks(rng: np.random.Generator, n: int) -> list[DancerLook]:
+    tops = _distinct_colours(rng, n)
+    bottoms = _distinct_colours(rng, n)
+    rng.shuffle(bottoms)
+    looks = []
+    for i in range(n):
+        looks.append(DancerLook(
+            tuple(tops[i]), tuple(np.clip(tops[i] * rng.uniform(0.3, 0.7) + rng.uniform(0, 0.3), 0, 1)),
+            str(rng.choice(["flat", "checker", "gradient"])), tuple(bottoms[i]),
+            tuple(np.clip(bottoms[i] * rng.uniform(0.3, 0.7), 0, 1)), str(rng.choice(["flat", "checker", "gradient"])),
+            tuple(SKIN_TONES[rng.integers(len(SKIN_TONES))] * rng.uniform(0.9, 1.05)),
+            tuple(np.full(3, rng.uniform(0.05, 0.3)))))
+    return looks
+
+
+def random_stage(rng: np.random.Generator) -> Stage:
+    floor = rng.uniform(0.2, 0.85, 3)
+    wall = rng.uniform(0.15, 0.9, 3)
+    lights = []
+    for _ in range(int(rng.integers(1, 3))):
+        az = rng.uniform(0, 2 * np.pi)
+        pos = np.array([4 * np.cos(az), 4 * np.sin(az), rng.uniform(3, 6)])
+        lights.append((pos, -pos / np.linalg.norm(pos), float(rng.uniform(0.25, 0.6))))
+    return Stage(tuple(floor), tuple(np.clip(floor * rng.uniform(0.6, 0.9), 0, 1)),
+                 str(rng.choice(["checker", "checker", "gradient", "flat"])), float(rng.uniform(4, 16)),
+                 tuple(wall), tuple(np.clip(wall * rng.uniform(0.4, 0.8), 0, 1)),
+                 str(rng.choice(["checker", "gradient", "flat"])), float(rng.uniform(0.25, 0.5)),
+                 float(rng.uniform(0.3, 0.6)), lights)
+
+
+def _fmt(v) -> str:
+    return " ".join(f"{float(x):.4g}" for x in np.ravel(v))
+
+
+def _material(asset, name, kind, rgb, rgb2, repeat=1.0):
+    if kind == "flat":
+        ET.SubElement(asset, "material", name=name, rgba=_fmt(list(rgb) + [1.0]), specular="0.1")
+        return
+    ET.SubElement(asset, "texture", name=f"{name}_tex", type="2d" if kind != "gradient" else "cube",
+                  builtin=kind, rgb1=_fmt(rgb), rgb2=_fmt(rgb2), width="64", height="64")
+    ET.SubElement(asset, "material", name=name, texture=f"{name}_tex", texrepeat=f"{repeat:.3g} {repeat:.3g}",
+                  specular="0.1")
+
+
+def build_scene_xml(heights_m: list[float], looks: list[DancerLook], stage: Stage, size=(640, 480)) -> str:
+    """The scene MJCF (string) with one dancer per height, ``d{i}_``-prefixed names, and camera ``cam``."""
+    root = ET.Element("mujoco", model="hdvr_scene")
+    ET.SubElement(root, "compiler", angle="radian", autolimits="true")
+    default = ET.SubElement(root, "default")
+    ET.SubElement(default, "joint", type="hinge", limited="true")
+    ET.SubElement(default, "geom", contype="0", conaffinity="0", rgba="0.8 0.55 0.4 1")
+    ET.SubElement(default, "site", size="0.012", rgba="0.1 0.4 0.9 1", group="3")
+    visual = ET.SubElement(root, "visual")
+    ET.SubElement(visual, "headlight", ambient=_fmt([stage.headlight_ambient] * 3),
+                  diffuse=_fmt([stage.headlight_diffuse] * 3), specular="0 0 0")
+    ET.SubElement(visual, "quality", shadowsize="0", offsamples="0")
+    ET.SubElement(visual, "global", offwidth=str(size[0]), offheight=str(size[1]))
+    ET.SubElement(visual, "map", znear="0.02", zfar="60")
+    asset = ET.SubElement(root, "asset")
+    _material(asset, "floor_mat", stage.floor_kind if stage.floor_kind != "gradient" else "checker", stage.floor_rgb,
+              stage.floor_rgb2, stage.floor_repeat)
+    _material(asset, "wall_mat", stage.wall_kind, stage.wall_rgb, stage.wall_rgb2, 6.0)
+    world = ET.SubElement(root, "worldbody")
+    for k, (pos, direction, diffuse) in enumerate(stage.lights):
+        ET.SubElement(world, "light", name=f"light{k}", pos=_fmt(pos), dir=_fmt(direction), directional="true",
+                      diffuse=_fmt([diffuse] * 3), castshadow="false")
+    ET.SubElement(world, "geom", name="floor", type="plane", size="12 12 2", material="floor_mat")
+    for k, (pos, euler) in enumerate((([0, 12, 4], [np.pi / 2, 0, 0]), ([0, -12, 4], [-np.pi / 2, 0, 0]),
+                                      ([12, 0, 4], [0, -np.pi / 2, 0]), ([-12, 0, 4], [0, np.pi / 2, 0]))):
+        ET.SubElement(world, "geom", name=f"wall{k}", type="plane", size="12 4 2" if k < 2 else "4 12 2",
+                      pos=_fmt(pos),
+                      euler=_fmt(euler), material="wall_mat")
+    ET.SubElement(world, "camera", name="cam", pos="5 0 1.5", xyaxes="0 1 0 -0.2 0 1", fovy="45")
+
+    for i, (height, look) in enumerate(zip(heights_m, looks)):
+        pre = f"d{i}_"
+        _material(asset, f"{pre}top", look.top_kind, look.top_rgb, look.top_rgb2, 3.0)
+        _material(asset, f"{pre}bottom", look.bottom_kind, look.bottom_rgb, look.bottom_rgb2, 3.0)
+        ET.SubElement(asset, "material", name=f"{pre}skin", rgba=_fmt(list(look.skin_rgb) + [1.0]), specular="0.2")
+        ET.SubElement(asset, "material", name=f"{pre}shoe", rgba=_fmt(list(look.shoe_rgb) + [1.0]), specular="0.3")
+        dancer = ET.fromstring(build_mjcf(height))
+        pelvis = dancer.find("worldbody/body")
+        for el in pelvis.iter():
+            if "name" in el.attrib:
+                el.set("name", pre + el.get("name"))
+            if el.tag == "geom":
+                body = el.get("name")[len(pre):].removesuffix("_geom")
+                mat = "top" if body in TOP_BODIES else "bottom" if body in BOTTOM_BODIES else \
+                    "shoe" if body in SHOE_BODIES else "skin"
+                el.set("material", pre + mat)
+                el.attrib.pop("rgba", None)
+            if el.tag == "freejoint":
+                pass
+            if el.tag == "joint":
+                for attr in ("damping", "armature"):
+                    el.attrib.pop(attr, None)
+        world.append(pelvis)
+    return ET.tostring(root, encoding="unicode")
+
+
+def place_dancers(rng: np.random.Generator, n: int, couple: bool) -> tuple[list[np.ndarray], list[float]]:
+    """Start positions (x, y) metres and headings (rad) of n dancers: couples face each other 0.75 m apart,
+    others stand in a loose line or arc 1.1-1.6 m apart, roughly facing the same way."""
+    positions, yaws = [], []
+    base_yaw = rng.uniform(-np.pi, np.pi)
+    if couple:
+        n_pairs = (n + 1) // 2
+        for p in range(n_pairs):
+            centre = np.array([rng.uniform(-0.6, 0.6), (p - (n_pairs - 1) / 2) * rng.uniform(1.6, 2.0)])
+            yaw = base_yaw + rng.uniform(-0.5, 0.5)
+            d = 0.375 * np.array([np.cos(yaw), np.sin(yaw)])
+            positions += [centre - d, centre + d]
+            yaws += [yaw, yaw + np.pi]
+        return positions[:n], yaws[:n]
+    spacing = rng.uniform(1.1, 1.6)
+    lateral = np.array([-np.sin(base_yaw), np.cos(base_yaw)])
+    forward = np.array([np.cos(base_yaw), np.sin(base_yaw)])
+    for i in range(n):
+        off = (i - (n - 1) / 2) * spacing
+        positions.append(off * lateral + forward * rng.uniform(-0.7, 0.7))
+        yaws.append(base_yaw + rng.uniform(-0.4, 0.4))
+    return positions, yaws
