@@ -66,3 +66,15 @@ def test_bad_bvh(tmp_path):
                                     "Zposition\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n0 0 0\n")
     with pytest.raises(HDVRError, match="declares 2 frames"):
         read_bvh(tmp_path / "b.bvh")
+
+
+@pytest.mark.shared_data
+def test_heel_rides_on_the_foot(shared_data):
+    """The heel keeps its distance to the ankle and rises above the toes when the foot points."""
+    pos, _ = load_mocap_body25(shared_data / "cmu-salsa" / "61_01_scaled.bvh", fps=30)
+    for side in ("left", "right"):
+        heel, ankle, toe = (pos[:, BODY25_NAMES.index(f"{side}_{j}")] for j in ("heel", "ankle", "big_toe"))
+        d = np.linalg.norm(heel - ankle, axis=-1)
+        assert d.std() < 1e-3 and 0.03 < d.mean() < 0.15  # rigid (up to 120 -> 30 fps resampling)
+        lift = heel[:, 2] - toe[:, 2]
+        assert lift.max() > 0.03  # on the balls of the feet at some point

@@ -82,6 +82,10 @@ class BVHMotion:
 
     def raw_positions(self, rest: bool = False) -> np.ndarray:
         """(T, J, 3) joint positions in file units and BVH axes; ``rest``: one frame of offsets only."""
+        return self.raw_pose(rest)[0]
+
+    def raw_pose(self, rest: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """Joint positions (T, J, 3) in file units and world rotations (T, J, 3, 3), BVH axes."""
         motion = np.zeros((1, self.motion.shape[1])) if rest else self.motion
         t = motion.shape[0]
         pos = np.zeros((t, len(self.joints), 3))
@@ -109,7 +113,7 @@ class BVHMotion:
                 p = joint.parent
                 pos[:, j] = pos[:, p] + np.einsum("tij,tj->ti", rot[:, p], local_t)
                 rot[:, j] = rot[:, p] @ local_r
-        return pos
+        return pos, rot
 
     def stature_units(self) -> float:
         """Estimated standing height in file units from the rest pose (eye height / 0.936, see module doc)."""
@@ -125,8 +129,19 @@ class BVHMotion:
 
         ``unit_scale``: metres per file unit; None normalises the stature to ``height_m``.
         """
+        return self.pose(unit_scale, height_m)[0]
+
+    def pose(self, unit_scale: float | None = None, height_m: float = DEFAULT_STATURE_M
+             ) -> tuple[np.ndarray, np.ndarray]:
+        """Joint positions (T, J, 3) metres and world rotations (T, J, 3, 3), HDVR axes (see :meth:`positions`)."""
         scale = unit_scale if unit_scale is not None else height_m / self.stature_units()
-        return scale * self.raw_positions() @ BVH_TO_HDVR.T
+        pos, rot = self.raw_pose()
+        return scale * pos @ BVH_TO_HDVR.T, BVH_TO_HDVR @ rot @ BVH_TO_HDVR.T
+
+    def rest_positions(self, unit_scale: float | None = None, height_m: float = DEFAULT_STATURE_M) -> np.ndarray:
+        """(J, 3) joint positions of the file's rest pose (all rotations zero), metres, HDVR axes."""
+        scale = unit_scale if unit_scale is not None else height_m / self.stature_units()
+        return scale * self.raw_positions(rest=True)[0] @ BVH_TO_HDVR.T
 
 
 def _tokens(text: str):
@@ -217,14 +232,18 @@ CMU_BVH_TO_BODY25: dict[str, str] = {
 }
 
 
-def body25_from_bvh(motion: BVHMotion, positions: np.ndarray) -> np.ndarray:
+def body25_from_bvh(motion: BVHMotion, positions: np.ndarray, rotations: np.ndarray | None = None,
+                    rest: np.ndarray | None = None) -> np.ndarray:
     """BODY_25 (T, 25, 3) from CMU-skeleton joint positions (T, J, 3), metres, HDVR axes.
 
     Direct joints: :data:`CMU_BVH_TO_BODY25`. Derived (documented approximations):
     neck = midpoint of the shoulders; mid_hip = midpoint of the hips; nose = midpoint of the eyes;
-    ears = head joint + 1.5 x (eye - mid-eyes) (lateral of the eyes, at the head joint's depth);
-    heel = ankle moved back by 0.3 x the horizontal ankle-to-toe vector, at toe height;
-    small toe = big toe moved outward (away from the midline) by 0.35 x the horizontal ankle-to-toe length.
+    ears = head joint + 1.5 x (eye - mid-eyes) (lateral of the eyes, at the head joint's depth).
+    Heel and small toe ride rigidly on the foot: in the file's rest pose (standing) the heel lies at the toe's
+    height, 0.3 x the horizontal ankle-to-toe length behind the ankle, and the small toe 0.35 x that length
+    outward of the big toe; with the foot joints' world ``rotations`` (T, J, 3, 3) and the ``rest`` positions
+    (J, 3) these offsets follow the foot (a raised heel rises). Without rotations, the rest-pose rule is applied
+    per frame (heel at toe height).
     """
     idx = {n: motion.index(b) for n, b in CMU_BVH_TO_BODY25.items()}
     out = np.full(positions.shape[:1] + (25, 3), np.nan)
@@ -242,18 +261,33 @@ def body25_from_bvh(motion: BVHMotion, positions: np.ndarray) -> np.ndarray:
     mid_eyes = (get("left_eye") + get("right_eye")) / 2
     put("nose", mid_eyes)
     head = positions[:, motion.index("head")]
-    for side in ("left", "right"):
-        put(f"{side}_ear", head + 1.5 * (get(f"{side}_eye") - mid_eyes))
-        ankle, toe = get(f"{side}_ankle"), get(f"{side}_big_toe")
+
+    def foot_points(ankle, toe, hip, mid_hip):
+        """Heel and small toe for ankle/toe/hip/mid-hip arrays (..., 3) with the rest-pose rule."""
         horiz = (toe - ankle) * np.array([1.0, 1.0, 0.0])
         heel = ankle - 0.3 * horiz
-        heel[:, 2] = toe[:, 2]
-        put(f"{side}_heel", heel)
+        heel[..., 2] = toe[..., 2]
         length = np.linalg.norm(horiz, axis=-1, keepdims=True)
-        outward = get(f"{side}_hip") - get("mid_hip")
-        outward[:, 2] = 0
+        outward = (hip - mid_hip) * np.array([1.0, 1.0, 0.0])
         outward /= np.maximum(np.linalg.norm(outward, axis=-1, keepdims=True), 1e-9)
-        put(f"{side}_small_toe", toe + 0.35 * length * outward)
+        return heel, toe + 0.35 * length * outward
+
+    for side, prefix in (("left", "l"), ("right", "r")):
+        put(f"{side}_ear", head + 1.5 * (get(f"{side}_eye") - mid_eyes))
+        if rotations is not None and rest is not None:
+            r = {k: rest[motion.index(b)] for k, b in (("ankle", f"{prefix}Foot"), ("toe", f"{prefix}Foot_end"),
+                                                        ("hip", f"{prefix}Thigh"))}
+            rest_mid = (rest[motion.index("lThigh")] + rest[motion.index("rThigh")]) / 2
+            heel0, small0 = foot_points(r["ankle"], r["toe"], r["hip"], rest_mid)
+            foot_rot = rotations[:, motion.index(f"{prefix}Foot")]
+            ankle = get(f"{side}_ankle")
+            put(f"{side}_heel", ankle + foot_rot @ (heel0 - r["ankle"]))
+            put(f"{side}_small_toe", ankle + foot_rot @ (small0 - r["ankle"]))
+        else:
+            heel, small = foot_points(get(f"{side}_ankle"), get(f"{side}_big_toe"), get(f"{side}_hip"),
+                                      get("mid_hip"))
+            put(f"{side}_heel", heel)
+            put(f"{side}_small_toe", small)
     return out
 
 
@@ -272,7 +306,8 @@ def load_mocap_body25(path: str | os.PathLike, fps: float | None = None, height_
         skip_frames = 1 if motion.num_frames > 1 and np.all(first == 0) and np.any(second != 0) else 0
     if skip_frames:
         motion = BVHMotion(motion.joints, motion.frame_time, motion.motion[skip_frames:], motion.source)
-    pos = body25_from_bvh(motion, motion.positions(height_m=height_m))
+    positions, rotations = motion.pose(height_m=height_m)
+    pos = body25_from_bvh(motion, positions, rotations, motion.rest_positions(height_m=height_m))
     src_fps = motion.fps
     if fps is None or abs(fps - src_fps) < 1e-9:
         return pos, src_fps
