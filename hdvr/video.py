@@ -1,0 +1,215 @@
+"""Video input and output in constant memory.
+
+Reading: :class:`VideoReader` decodes frame by frame (BGR uint8, shape (height, width, 3)) with OpenCV's FFmpeg
+backend (fast, H.264 included), falling back to PyAV for containers OpenCV cannot open. Only one frame is held
+at a time, so memory does not grow with the length of the video.
+
+Writing: :class:`VideoWriter` encodes H.264 (``libx264``, yuv420p) through PyAV, because OpenCV's headless build
+cannot encode H.264. The file is written to a temporary name beside the target and renamed on :meth:`close`,
+so an interrupted run never leaves a half-written video under the target name.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+from typing import Iterator
+
+import cv2
+import numpy as np
+
+from hdvr.errors import HDVRError
+
+VIDEO_SUFFIXES = (".mp4", ".avi", ".mov", ".webm", ".mkv", ".m4v")
+
+
+@dataclass(frozen=True)
+class VideoInfo:
+    """What a video container says about its stream."""
+
+    width: int  # pixels
+    height: int  # pixels
+    fps: float  # frames per second
+    num_frames: int  # as reported by the container; 0 if unknown (counting needs a full decode)
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(width, height) in pixels."""
+        return (self.width, self.height)
+
+
+class VideoReader:
+    """Iterate over the frames of a video file (BGR uint8), one at a time.
+
+    Raises :class:`HDVRError` if the file is missing, cannot be opened, or has no decodable frame.
+    A stream that breaks off mid-way (truncated or corrupt file) ends the iteration; :attr:`frames_read`
+    tells how many frames came out, and :attr:`error` says why decoding stopped early, if it did.
+    """
+
+    def __init__(self, path: str | os.PathLike):
+        self.path = Path(path)
+        if not self.path.is_file():
+            raise HDVRError(f"video file not found: {self.path}")
+        if self.path.stat().st_size == 0:
+            raise HDVRError(f"video file is empty (0 bytes): {self.path}")
+        self.frames_read = 0
+        self.error: str | None = None
+        self._backend = "cv2"
+        cap = cv2.VideoCapture(str(self.path))
+        ok = cap.isOpened()
+        first = None
+        if ok:
+            ok, first = cap.read()
+        if ok and first is not None:
+            fps = float(cap.get(cv2.CAP_PROP_FPS) or 0.0)
+            n = int(cap.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
+            h, w = first.shape[:2]
+            self._cap = cap
+            self._first = first
+        else:
+            cap.release()
+            self._backend = "av"
+            w, h, fps, n, first = self._open_with_pyav()
+            self._first = first
+        if not np.isfinite(fps) or fps <= 0 or fps > 1000:
+            fps = 30.0  # containers without a frame rate (image sequences, some webm): assume 30
+        self.info = VideoInfo(int(w), int(h), float(fps), max(int(n), 0))
+
+    def _open_with_pyav(self):
+        import av
+
+        try:
+            self._container = av.open(str(self.path))
+            stream = self._container.streams.video[0]
+        except (av.FFmpegError, IndexError, OSError, UnicodeDecodeError) as exc:
+            raise HDVRError(f"cannot read video {self.path}: not a video file or corrupt "
+                            f"({type(exc).__name__})") from None
+        stream.thread_type = "AUTO"
+        self._av_frames = self._container.decode(stream)
+        try:
+            first = next(self._av_frames).to_ndarray(format="bgr24")
+        except (StopIteration, av.FFmpegError):
+            self._container.close()
+            raise HDVRError(f"video {self.path} has no decodable frame (zero frames or corrupt)") from None
+        rate = stream.average_rate or stream.base_rate or 0
+        return first.shape[1], first.shape[0], float(rate), int(stream.frames or 0), first
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        if self._first is None:
+            raise HDVRError(f"video {self.path} can be iterated only once; open a new VideoReader")
+        first, self._first = self._first, None
+        self.frames_read = 1
+        yield first
+        if self._backend == "cv2":
+            while True:
+                ok, frame = self._cap.read()
+                if not ok:
+                    if self.info.num_frames and self.frames_read < self.info.num_frames - 1:
+                        self.error = (f"decoding stopped after {self.frames_read} of "
+                                      f"{self.info.num_frames} frames (truncated or corrupt video)")
+                    break
+                self.frames_read += 1
+                yield frame
+        else:
+            import av
+
+            try:
+                for frame in self._av_frames:
+                    self.frames_read += 1
+                    yield frame.to_ndarray(format="bgr24")
+            except av.FFmpegError as exc:
+                self.error = f"decoding stopped after {self.frames_read} frames ({type(exc).__name__})"
+        self.close()
+
+    def close(self) -> None:
+        if self._backend == "cv2":
+            self._cap.release()
+        else:
+            self._container.close()
+
+    def __enter__(self) -> "VideoReader":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+def probe_video(path: str | os.PathLike) -> VideoInfo:
+    """Open ``path``, decode its first frame, and return its :class:`VideoInfo` (raises :class:`HDVRError`)."""
+    with VideoReader(path) as reader:
+        return reader.info
+
+
+class VideoWriter:
+    """Write BGR uint8 frames to an H.264 MP4 (PyAV, libx264, yuv420p), atomically.
+
+    ``size`` is (width, height) in pixels; odd sizes are padded with one black row/column (yuv420p needs
+    even sizes). ``crf`` is x264's constant quality (lower = better, 23 = default). Use as a context
+    manager: the file appears under ``path`` only when the writer closes without an exception.
+    """
+
+    def __init__(self, path: str | os.PathLike, fps: float, size: tuple[int, int], crf: int = 23,
+                 preset: str = "veryfast"):
+        import av
+
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.size = (int(size[0]), int(size[1]))
+        if self.size[0] <= 0 or self.size[1] <= 0:
+            raise HDVRError(f"video size must be positive (width, height), got {size}")
+        self._tmp = self.path.with_name(f".{self.path.name}.partial{self.path.suffix or '.mp4'}")
+        self._container = av.open(str(self._tmp), mode="w")
+        rate = Fraction(float(fps)).limit_denominator(1001)
+        self._stream = self._container.add_stream("libx264", rate=rate)
+        self._padded = (self.size[0] + self.size[0] % 2, self.size[1] + self.size[1] % 2)
+        self._stream.width, self._stream.height = self._padded
+        self._stream.pix_fmt = "yuv420p"
+        self._stream.options = {"crf": str(crf), "preset": preset}
+        self._stream.thread_type = "AUTO"
+        self.frames_written = 0
+        self._closed = False
+
+    def write(self, frame_bgr: np.ndarray) -> None:
+        import av
+
+        h, w = frame_bgr.shape[:2]
+        if (w, h) != self.size:
+            raise HDVRError(f"frame size {w}x{h} differs from the video size {self.size[0]}x{self.size[1]}")
+        if self._padded != self.size:
+            frame_bgr = cv2.copyMakeBorder(frame_bgr, 0, self._padded[1] - h, 0, self._padded[0] - w,
+                                           cv2.BORDER_CONSTANT)
+        frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame_bgr), format="bgr24")
+        for packet in self._stream.encode(frame):
+            self._container.mux(packet)
+        self.frames_written += 1
+
+    def close(self) -> None:
+        """Flush the encoder and move the finished file to ``path``."""
+        if self._closed:
+            return
+        self._closed = True
+        for packet in self._stream.encode(None):
+            self._container.mux(packet)
+        self._container.close()
+        os.replace(self._tmp, self.path)
+
+    def abort(self) -> None:
+        """Drop the partial file (nothing appears under ``path``)."""
+        if self._closed:
+            return
+        self._closed = True
+        try:
+            self._container.close()
+        finally:
+            self._tmp.unlink(missing_ok=True)
+
+    def __enter__(self) -> "VideoWriter":
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()

@@ -1,0 +1,106 @@
+import cv2
+import numpy as np
+import pytest
+
+from hdvr.errors import HDVRError
+from hdvr.video import VideoReader, VideoWriter, probe_video
+
+
+def _frames(n=12, size=(97, 64)):
+    rng = np.random.default_rng(0)
+    base = rng.integers(0, 255, (size[1], size[0], 3), dtype=np.uint8)
+    base = cv2.GaussianBlur(base, (9, 9), 3)
+    return [np.roll(base, 2 * i, axis=1) for i in range(n)]
+
+
+def test_h264_round_trip_odd_size(tmp_path):
+    frames = _frames()
+    path = tmp_path / "out.mp4"
+    with VideoWriter(path, fps=25.0, size=(97, 64), crf=12) as writer:
+        for f in frames:
+            writer.write(f)
+    assert not list(tmp_path.glob(".out.mp4*")), "temporary file removed"
+    import av
+
+    with av.open(str(path)) as c:
+        assert c.streams.video[0].codec_context.name == "h264"
+    reader = VideoReader(path)
+    assert reader.info.fps == pytest.approx(25.0)
+    back = list(reader)
+    assert len(back) == len(frames)
+    assert back[0].shape[:2] in [(64, 98), (64, 97)]
+    err = np.abs(back[5][:, :97].astype(float) - frames[5].astype(float)).mean()
+    assert err < 6.0, f"decoded frame differs by {err:.1f} grey levels on average"
+
+
+def test_writer_abort_leaves_nothing(tmp_path):
+    path = tmp_path / "x.mp4"
+    with pytest.raises(RuntimeError):
+        with VideoWriter(path, fps=30, size=(32, 32)) as w:
+            w.write(np.zeros((32, 32, 3), np.uint8))
+            raise RuntimeError("boom")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_writer_rejects_wrong_frame_size(tmp_path):
+    with VideoWriter(tmp_path / "x.mp4", fps=30, size=(32, 32)) as w:
+        with pytest.raises(HDVRError, match="differs"):
+            w.write(np.zeros((16, 32, 3), np.uint8))
+        w.write(np.zeros((32, 32, 3), np.uint8))
+
+
+@pytest.mark.parametrize("fourcc,suffix", [("MJPG", ".avi"), ("VP90", ".webm")])
+def test_reads_other_containers(tmp_path, fourcc, suffix):
+    path = tmp_path / f"clip{suffix}"
+    vw = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*fourcc), 20.0, (64, 48))
+    if not vw.isOpened():
+        pytest.skip(f"this OpenCV build cannot write {fourcc}")
+    for f in _frames(8, (64, 48)):
+        vw.write(f)
+    vw.release()
+    reader = VideoReader(path)
+    assert (reader.info.width, reader.info.height) == (64, 48)
+    assert len(list(reader)) == 8
+
+
+def test_bad_inputs(tmp_path):
+    with pytest.raises(HDVRError, match="not found"):
+        VideoReader(tmp_path / "missing.mp4")
+    empty = tmp_path / "empty.mp4"
+    empty.write_bytes(b"")
+    with pytest.raises(HDVRError, match="empty"):
+        VideoReader(empty)
+    junk = tmp_path / "junk.mp4"
+    junk.write_bytes(b"this is not a video" * 100)
+    with pytest.raises(HDVRError, match="cannot read video|no decodable frame"):
+        probe_video(junk)
+
+
+def test_truncated_video_keeps_decoded_frames(tmp_path):
+    path = tmp_path / "full.mp4"
+    with VideoWriter(path, fps=30, size=(160, 120)) as w:
+        for f in _frames(60, (160, 120)):
+            w.write(f)
+    data = path.read_bytes()
+    cut = tmp_path / "cut.mp4"
+    cut.write_bytes(data[: len(data) // 2])
+    try:
+        reader = VideoReader(cut)
+    except HDVRError:
+        return  # a cut that removes the index is a clear error too
+    n = sum(1 for _ in reader)
+    assert 0 < n <= 60
+
+
+def test_real_video_streams(shared_data):
+    path = shared_data / "video" / "two-people-tree" / "video.mp4"
+    reader = VideoReader(path)
+    assert reader.info.size == (1768, 994)
+    assert reader.info.fps == pytest.approx(30.0, abs=0.1)
+    n = 0
+    for frame in reader:
+        assert frame.shape == (994, 1768, 3)
+        n += 1
+        if n == 20:
+            break
+    assert n == 20
