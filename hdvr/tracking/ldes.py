@@ -33,6 +33,9 @@ class LDESConfig:
     kernel_sigma: float = 0.2  # Gaussian kernel width of the KCF
     regularisation: float = 1e-4
     learning_rate: float = 0.02  # per frame, of the translation filter
+    colour_weight: float = 0.3  # weight of the colour-histogram response merged with the filter's (Staple-style)
+    colour_learning_rate: float = 0.04
+    colour_bins: int = 16  # per BGR channel
     logpolar_size: int = 64  # bins in angle and in log radius
     logpolar_learning_rate: float = 0.05
     estimate_scale: bool = True
@@ -135,6 +138,9 @@ class LDESTracker:
         self._lp_window = np.tile(taper, (c.logpolar_size, 1)).astype(np.float64)
         self._lp_cartesian_window = _hann(2 * c.logpolar_size, 2 * c.logpolar_size)
         patch = self._sample(frame)
+        # target rectangle inside the template (pixels of the template), for the colour model
+        self._target_in_template = (w / self._image_per_template[0], h / self._image_per_template[1])
+        self._fg_hist, self._bg_hist = self._colour_histograms(patch)
         self._model_x = self._features(patch)
         self._model_alpha_f = self._train(self._model_x)
         self._model_lp = self._logpolar(frame)
@@ -165,6 +171,38 @@ class LDESTracker:
     def _features(self, patch: np.ndarray) -> np.ndarray:
         f = hog_colour_features(patch, self.config.cell_size, self.config.orientation_bins)
         return f * self._cos_window[..., None]
+
+    # ------------------------------------------------------------ colour model
+    def _colour_index(self, patch: np.ndarray) -> np.ndarray:
+        q = (patch // (256 // self.config.colour_bins)).astype(np.int32)
+        n = self.config.colour_bins
+        return (q[..., 0] * n + q[..., 1]) * n + q[..., 2]
+
+    def _colour_histograms(self, patch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Colour histograms of the target rectangle (foreground) and of the window around it (background)."""
+        idx = self._colour_index(patch)
+        th, tw = patch.shape[:2]
+        w, h = self._target_in_template
+        fg = np.zeros((th, tw), bool)
+        bg = np.ones((th, tw), bool)
+        cx, cy = (tw - 1) / 2, (th - 1) / 2
+        fg[int(cy - 0.4 * h): int(cy + 0.4 * h) + 1, int(cx - 0.4 * w): int(cx + 0.4 * w) + 1] = True
+        bg[int(cy - 0.6 * h): int(cy + 0.6 * h) + 1, int(cx - 0.6 * w): int(cx + 0.6 * w) + 1] = False
+        bins = self.config.colour_bins ** 3
+        fg_hist = np.bincount(idx[fg], minlength=bins).astype(np.float32)
+        bg_hist = np.bincount(idx[bg], minlength=bins).astype(np.float32)
+        return fg_hist / max(fg_hist.sum(), 1), bg_hist / max(bg_hist.sum(), 1)
+
+    def _colour_response(self, patch: np.ndarray, cells: tuple[int, int]) -> np.ndarray:
+        """Mean foreground probability of a target-sized box at each cell position, in the cyclic layout of the
+        filter response (index 0 = no shift)."""
+        likelihood = self._fg_hist / (self._fg_hist + self._bg_hist + 1e-6)
+        prob = likelihood[self._colour_index(patch)].astype(np.float32)
+        w, h = self._target_in_template
+        mean = cv2.boxFilter(prob, -1, (max(int(w * 0.8), 1), max(int(h * 0.8), 1)), normalize=True,
+                             borderType=cv2.BORDER_CONSTANT)
+        grid = cv2.resize(mean, (cells[1], cells[0]), interpolation=cv2.INTER_AREA)
+        return np.fft.ifftshift(grid)
 
     def _logpolar(self, frame: np.ndarray) -> np.ndarray:
         """Fourier-Mellin descriptor of a square patch around the target, in the tracker's current scale and
@@ -224,8 +262,13 @@ class LDESTracker:
     def predict_translation(self, frame: np.ndarray) -> tuple[tuple[float, float], float]:
         """The new centre found by the correlation filter (pixels) and its peak-to-sidelobe ratio."""
         c = self.config
-        z = self._features(self._sample(frame))
-        dy, dx, psr = self._peak(self._respond(z))
+        patch = self._sample(frame)
+        z = self._features(patch)
+        response = self._respond(z)
+        if c.colour_weight > 0:
+            response = (1 - c.colour_weight) * response + c.colour_weight * self._colour_response(patch,
+                                                                                                response.shape)
+        dy, dx, psr = self._peak(response)
         d_template = np.array([dx, dy]) * c.cell_size
         m = self._affine(self._template_size, self._image_per_template)
         shift = m[:, :2] @ d_template
@@ -252,7 +295,13 @@ class LDESTracker:
                     self.angle -= float(rotation)
         self.confidence = psr
         if learn:
-            x = self._features(self._sample(frame))
+            patch = self._sample(frame)
+            x = self._features(patch)
+            if c.colour_weight > 0:
+                fg, bg = self._colour_histograms(patch)
+                clr = c.colour_learning_rate
+                self._fg_hist = (1 - clr) * self._fg_hist + clr * fg
+                self._bg_hist = (1 - clr) * self._bg_hist + clr * bg
             lr = c.learning_rate
             self._model_x = (1 - lr) * self._model_x + lr * x
             self._model_alpha_f = (1 - lr) * self._model_alpha_f + lr * self._train(x)
