@@ -33,15 +33,19 @@ TRACKED, OCCLUDED = "tracked", "occluded"
 class MultiTrackerConfig:
     """Parameters of Algorithm 1* (defaults tuned on the procedural crossing clips)."""
 
-    ldes: LDESConfig = field(default_factory=lambda: LDESConfig(estimate_rotation=False))
+    # dancers: a tight search window and a strong colour term keep thin limbs from losing to a textured
+    # background; dancers turn in depth, not in the image plane, so in-plane rotation is not estimated
+    ldes: LDESConfig = field(default_factory=lambda: LDESConfig(padding=0.6, colour_weight=0.5,
+                                                                estimate_rotation=False, estimate_scale=False))
     overlap_threshold: float = 0.05  # intersection / smaller box area above which two dancers overlap
-    velocity_smoothing: float = 0.3  # weight of the newest displacement in the stored velocity
+    velocity_window: int = 30  # clear frames over which the stored velocity is fitted (least squares)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
     failure_angle_deg: float = 60.0  # turn of the motion direction that counts as a tracking failure
     min_speed: float = 0.7  # px/frame: below this the direction is not trusted (histogram test only)
     failure_histogram: float = 0.5  # similarity to the stored histogram below this = failure while overlapped
-    failure_psr: float = 4.0  # correlation-filter peak-to-sidelobe ratio below this = failure while overlapped
-    motion_window: int = 3  # frames over which the current motion is measured
+    failure_psr: float = 2.5  # correlation-filter peak-to-sidelobe ratio below this = failure while overlapped
+    motion_window: int = 4  # frames over which the current motion is measured
+    min_motion_px: float = 4.0  # displacement over the motion window below which its direction is not trusted
     cone_half_angle_deg: float = 25.0
     cone_radii: tuple[float, ...] = (0.7, 0.85, 1.0, 1.15, 1.3)  # x the predicted travel distance
     cone_angles: int = 5  # directions sampled across the cone
@@ -66,6 +70,7 @@ class DancerTrack:
     occlusion_end: int = -1  # predicted frame where the overlap ends
     occluded_since: int = -1
     centers: list = field(default_factory=list)  # recent centres (px), newest last
+    clear_track: list = field(default_factory=list)  # (frame, centre) of recent frames clear of others
     confidence: float = 1.0
 
     @property
@@ -198,9 +203,8 @@ class MultiDancerTracker:
             overlapping = self._overlapping(i, [dd.box if dd.status == TRACKED else self._predicted_box(dd, t)
                                                 for dd in self.dancers])
             if not overlapping:
-                if len(d.centers) >= 2:
-                    v = d.centers[-1] - d.centers[-2]
-                    d.stored_velocity = (1 - c.velocity_smoothing) * d.stored_velocity + c.velocity_smoothing * v
+                d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.center)]
+                d.stored_velocity = self._fit_velocity(d.clear_track)
                 hist = colour_histogram(frame, d.box)
                 if hist is not None:
                     d.stored_histogram = hist if d.stored_histogram is None else \
@@ -217,24 +221,41 @@ class MultiDancerTracker:
         for d in self.dancers:
             if d.status != OCCLUDED:
                 continue
+            # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
+            own = d.tracker.update(frame, learn=False).box
             d.box = self._predicted_box(d, t)
-            if t >= d.occlusion_end:
-                self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames)
+            others = [o.box for o in self.dancers if o is not d]
+            clear_now = not any(box_overlap(b, o) > c.overlap_threshold for o in others for b in (d.box, own))
+            if t >= d.occlusion_end or clear_now:
+                self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames,
+                               extra=[own])
         return self.result()
+
+    @staticmethod
+    def _fit_velocity(track) -> np.ndarray:
+        """Least-squares velocity (px/frame) through (frame, centre) samples; zero with fewer than 2."""
+        if len(track) < 2:
+            return np.zeros(2)
+        f = np.array([ft for ft, _ in track], float)
+        p = np.array([pt for _, pt in track], float)
+        f -= f.mean()
+        return (f[:, None] * (p - p.mean(axis=0))).sum(axis=0) / (f ** 2).sum()
 
     def _failed(self, d: DancerTrack, frame, overlapping: list[int], boxes) -> bool:
         c = self.config
         stored_speed = float(np.linalg.norm(d.stored_velocity))
-        if len(d.centers) >= 2:
-            motion = (d.centers[-1] - d.centers[0]) / (len(d.centers) - 1)
+        if len(d.centers) > c.motion_window:  # a full window since (re)start
+            steps = len(d.centers) - 1
+            motion = (d.centers[-1] - d.centers[0]) / steps
+            moved = float(np.linalg.norm(motion)) * steps
             if stored_speed >= c.min_speed:
-                if _angle_between(motion, d.stored_velocity) > c.failure_angle_deg:
+                if moved >= c.min_motion_px and _angle_between(motion, d.stored_velocity) > c.failure_angle_deg:
                     return True
-                speed = float(np.linalg.norm(motion))
-                if speed < 0.3 * stored_speed or speed > 2.5 * stored_speed + 2.0:
+                expected = stored_speed * steps
+                if expected >= c.min_motion_px and (moved < 0.3 * expected or moved > 2.5 * expected + 2 * steps):
                     return True
-            elif np.linalg.norm(motion) > 4.0 * c.min_speed + 0.02 * d.box[3]:
-                return True  # a still dancer that suddenly jumps away with an overlapping one
+            elif moved > c.min_motion_px + 0.05 * d.box[3]:
+                return True  # a still dancer that suddenly moves off with an overlapping one
         if d.tracker.confidence < c.failure_psr:
             return True
         similarity = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
@@ -249,9 +270,9 @@ class MultiDancerTracker:
                     return True
         return False
 
-    def _relocate(self, d: DancerTrack, frame, detections, force: bool) -> None:
+    def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
         c = self.config
-        candidates = self._cone_candidates(d, detections)
+        candidates = self._cone_candidates(d, detections) + [tuple(b) for b in extra]
         others = [o.box for o in self.dancers if o is not d and o.status == TRACKED]
         best, best_score = None, -np.inf
         for box in candidates:
@@ -268,4 +289,5 @@ class MultiDancerTracker:
         d.tracker.center = (best[0] + best[2] / 2, best[1] + best[3] / 2)
         d.tracker.scale = best[2] / d.tracker.base_size[0]
         d.centers = [d.center]
+        d.clear_track = []
         d.stored_box, d.stored_frame = best, self.frame_index

@@ -54,7 +54,7 @@ def skeleton(center: tuple[float, float], height: float, t: float, phase: float)
     Toes and heels, eyes and ears are left NaN (the drawn figure has none)."""
     cx, cy = center
     s = height
-    swing = 0.5 * np.sin(2 * np.pi * t / 30.0 + phase)
+    swing = 0.3 * np.sin(2 * np.pi * t / 30.0 + phase)
     pts = np.full((25, 2), np.nan)
     top = cy - 0.5 * s
 
@@ -101,19 +101,24 @@ def _background(size, seed) -> np.ndarray:
 
 
 def default_crossing_specs(size=(640, 480), num_figures: int = 2, seed: int = 0) -> list[FigureSpec]:
-    """Figures that walk towards each other and cross (each pair of neighbours crosses once)."""
+    """Up to 4 figures, clear of each other in the first frame, that then cross: figure 0 walks right from the
+    left edge, 1 walks left from the right edge (they cross head-on), 2 and 3 walk slowly between them (they are
+    overtaken and crossed)."""
+    if not 1 <= num_figures <= 4:
+        raise ValueError("1 to 4 figures")
     rng = np.random.default_rng(seed)
     w, h = size
-    palette = [((30, 30, 200), (40, 200, 230)), ((200, 60, 30), (230, 220, 90)), ((40, 160, 40), (220, 90, 200)),
-               ((20, 20, 20), (240, 240, 240))]
+    # clothes of clearly different colours (a dancer dressed like the background is not a re-identification test)
+    palette = [((30, 30, 200), (40, 200, 230)), ((200, 60, 30), (230, 220, 90)), ((30, 170, 30), (20, 20, 20)),
+               ((240, 240, 240), (150, 30, 150))]
+    layout = [(0.1, 1.0), (0.9, -1.0), (0.42, 0.35), (0.66, -0.35)]  # start x / width, speed factor
     specs = []
     for i in range(num_figures):
-        left = i % 2 == 0
-        x0 = w * (0.12 + 0.08 * (i // 2)) if left else w * (0.88 - 0.08 * (i // 2))
-        speed = rng.uniform(2.6, 3.6) * (1 if left else -1)
-        y0 = h * 0.55 + rng.uniform(-0.05, 0.05) * h
-        specs.append(FigureSpec((x0, y0), (speed, rng.uniform(-0.15, 0.15)), h * rng.uniform(0.55, 0.65),
-                                palette[i % len(palette)], depth=float(i), phase=rng.uniform(0, 2 * np.pi)))
+        x_frac, speed_factor = layout[i]
+        speed = rng.uniform(2.8, 3.6) * speed_factor
+        y0 = h * 0.55 + rng.uniform(-0.04, 0.04) * h
+        specs.append(FigureSpec((w * x_frac, y0), (speed, rng.uniform(-0.1, 0.1)), h * rng.uniform(0.55, 0.65),
+                                palette[i], depth=float((i * 7 + seed) % num_figures), phase=rng.uniform(0, 6.3)))
     return specs
 
 
