@@ -13,6 +13,13 @@ Each dancer has its own LDES-style tracker (:mod:`hdvr.tracking.ldes`). Per fram
    along the stored motion direction, plus any person detections inside the cone; the candidate whose histogram
    correlates best with the stored one takes the dancer, and tracking resumes there.
 
+When person detections are given (``step(frame, detections)``), a dancer clear of the others whose box holds no
+detected person for ``max_missed_detections`` detector frames in a row has also failed (its tracker drifted
+off, e.g. in a jump); it is then relocated among the detections near its last position by the same histogram
+test. Its stored histogram is only updated on frames where a detection confirms its box.
+
+Dancers may start later than the first frame (:meth:`MultiDancerTracker.add_dancer`).
+
 Boxes are (x, y, w, h) pixels, top-left corner; velocities px/frame; frames are 0-based indices.
 """
 
@@ -53,6 +60,8 @@ class MultiTrackerConfig:
     relocate_min_similarity: float = 0.3  # a candidate must correlate at least this well to be taken
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
+    max_missed_detections: int = 3  # detector frames in a row without a person on a clear dancer's box = lost
+    lost_search_heights: float = 3.0  # a lost dancer is searched among detections this many box heights away
 
 
 @dataclass
@@ -70,6 +79,8 @@ class DancerTrack:
     occlusion_end: int = -1  # predicted frame where the overlap ends
     occluded_since: int = -1
     centers: list = field(default_factory=list)  # recent centres (px), newest last
+    missed: int = 0  # detector frames in a row in which no person was detected on this dancer's box
+    lost: bool = False  # relocating after a failure away from others (the tracker drifted off)
     clear_track: list = field(default_factory=list)  # (frame, centre) of recent frames clear of others
     confidence: float = 1.0
 
@@ -105,20 +116,25 @@ class MultiDancerTracker:
 
     def __init__(self, frame: np.ndarray, boxes, config: MultiTrackerConfig | None = None):
         self.config = config or MultiTrackerConfig()
-        boxes = [tuple(float(v) for v in b) for b in boxes]
-        if not boxes:
-            raise HDVRError("no dancer to track: give at least one box")
         self.frame_size = (frame.shape[1], frame.shape[0])
         self.frame_index = 0
         self.dancers: list[DancerTrack] = []
-        for i, b in enumerate(boxes):
-            tracker = LDESTracker(frame, b, self.config.ldes)
-            d = DancerTrack(i, tracker, b, stored_box=b, stored_frame=0)
-            d.stored_histogram = colour_histogram(frame, b)
-            d.centers.append(d.center)
-            self.dancers.append(d)
+        for b in boxes:
+            self.add_dancer(frame, b)
+
+    def add_dancer(self, frame: np.ndarray, box) -> int:
+        """Start tracking a dancer at ``box`` = (x, y, w, h) px in ``frame`` (the current frame); returns its id."""
+        b = tuple(float(v) for v in box)
+        tracker = LDESTracker(frame, b, self.config.ldes)
+        d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index)
+        d.stored_histogram = colour_histogram(frame, b)
+        d.centers.append(d.center)
+        self.dancers.append(d)
+        return d.dancer_id
 
     def result(self) -> FrameResult:
+        if not self.dancers:
+            return FrameResult(self.frame_index, np.zeros((0, 4)), (), np.zeros(0))
         return FrameResult(self.frame_index, np.array([d.box for d in self.dancers], float),
                            tuple(d.status for d in self.dancers),
                            np.array([d.confidence for d in self.dancers], float))
@@ -169,7 +185,9 @@ class MultiDancerTracker:
         for det in detections or []:
             centre = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2])
             off = centre - origin
-            if dist > c.min_search_radius * h:
+            if d.lost:
+                inside = np.linalg.norm(off) <= c.lost_search_heights * h
+            elif dist > c.min_search_radius * h:
                 inside = (_angle_between(off, travel) <= 2 * c.cone_half_angle_deg
                           and 0.4 * dist <= np.linalg.norm(off) <= 1.8 * dist + 0.5 * w)
             else:
@@ -202,10 +220,18 @@ class MultiDancerTracker:
                 continue
             overlapping = self._overlapping(i, [dd.box if dd.status == TRACKED else self._predicted_box(dd, t)
                                                 for dd in self.dancers])
+            if not overlapping and detections is not None:
+                confirmed = any(box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2 for det in detections)
+                d.missed = 0 if confirmed else d.missed + 1
+                if d.missed >= c.max_missed_detections and detections:
+                    d.status, d.lost = OCCLUDED, True
+                    d.occluded_since = d.occlusion_end = t
+                    d.confidence = 0.0
+                    continue
             if not overlapping:
                 d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.center)]
                 d.stored_velocity = self._fit_velocity(d.clear_track)
-                hist = colour_histogram(frame, d.box)
+                hist = colour_histogram(frame, d.box) if d.missed == 0 else None
                 if hist is not None:
                     d.stored_histogram = hist if d.stored_histogram is None else \
                         (1 - c.histogram_smoothing) * d.stored_histogram + c.histogram_smoothing * hist
@@ -223,7 +249,7 @@ class MultiDancerTracker:
                 continue
             # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
             own = d.tracker.update(frame, learn=False).box
-            d.box = self._predicted_box(d, t)
+            d.box = d.stored_box if d.lost else self._predicted_box(d, t)
             others = [o.box for o in self.dancers if o is not d]
             clear_now = not any(box_overlap(b, o) > c.overlap_threshold for o in others for b in (d.box, own))
             if t >= d.occlusion_end or clear_now:
@@ -272,7 +298,13 @@ class MultiDancerTracker:
 
     def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
         c = self.config
-        candidates = self._cone_candidates(d, detections) + [tuple(b) for b in extra]
+        if d.lost:  # the detector saw no one on the patches near its box: only detected people qualify
+            if detections is None:
+                return
+            candidates = self._cone_candidates(d, detections)[-len(detections):] if detections else []
+            candidates = [b for b in candidates if b in [tuple(float(v) for v in det) for det in detections]]
+        else:
+            candidates = self._cone_candidates(d, detections) + [tuple(b) for b in extra]
         others = [o.box for o in self.dancers if o is not d and o.status == TRACKED]
         best, best_score = None, -np.inf
         for box in candidates:
@@ -283,11 +315,16 @@ class MultiDancerTracker:
                 best, best_score = box, score
         if best is None or (best_score < c.relocate_min_similarity and not force):
             return  # stay occluded; try again next frame
+        if d.lost:  # its filter learned whatever it drifted onto: start afresh on the found person
+            d.tracker.init(frame, best)
+        else:
+            d.tracker.center = (best[0] + best[2] / 2, best[1] + best[3] / 2)
+            d.tracker.scale = best[2] / d.tracker.base_size[0]
         d.box = best
         d.status = TRACKED
+        d.lost = False
+        d.missed = 0
         d.confidence = float(np.clip(best_score, 0, 1))
-        d.tracker.center = (best[0] + best[2] / 2, best[1] + best[3] / 2)
-        d.tracker.scale = best[2] / d.tracker.base_size[0]
         d.centers = [d.center]
         d.clear_track = []
         d.stored_box, d.stored_frame = best, self.frame_index
