@@ -156,6 +156,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             raise HDVRError("give the dancers' boxes (--boxes) or a detector to find them (--dancers N)")
         if not num_dancers or num_dancers < 1:
             raise HDVRError("give --boxes or --dancers N (N >= 1)")
+        if max_frames:
+            init_seconds = min(init_seconds, max_frames / info.fps)
         starts = find_dancers(video, detector, num_dancers, seconds=init_seconds)
     else:
         starts = [DancerStart(0, tuple(float(v) for v in b)) for b in boxes]
