@@ -13,10 +13,11 @@ Each dancer has its own LDES-style tracker (:mod:`hdvr.tracking.ldes`). Per fram
    along the stored motion direction, plus any person detections inside the cone; the candidate whose histogram
    correlates best with the stored one takes the dancer, and tracking resumes there.
 
-When person detections are given (``step(frame, detections)``), a dancer clear of the others whose box holds no
-detected person for ``max_missed_detections`` detector frames in a row has also failed (its tracker drifted
-off, e.g. in a jump); it is then relocated among the detections near its last position by the same histogram
-test. Its stored histogram is only updated on frames where a detection confirms its box.
+When person detections are given (``step(frame, detections)``), a dancer clear of the others whose box has held
+no detected person for ``max_missed_detections`` detector frames in a row may have lost its dancer (e.g. in a
+jump): if a detected person nearby, tracked by no one, matches its stored histogram clearly better than its box
+does, the dancer moves there and its tracker restarts. Its stored histogram is only updated on frames where no
+detection is missing on its box.
 
 Dancers may start later than the first frame (:meth:`MultiDancerTracker.add_dancer`).
 
@@ -80,7 +81,6 @@ class DancerTrack:
     occluded_since: int = -1
     centers: list = field(default_factory=list)  # recent centres (px), newest last
     missed: int = 0  # detector frames in a row in which no person was detected on this dancer's box
-    lost: bool = False  # relocating after a failure away from others (the tracker drifted off)
     clear_track: list = field(default_factory=list)  # (frame, centre) of recent frames clear of others
     confidence: float = 1.0
 
@@ -185,9 +185,7 @@ class MultiDancerTracker:
         for det in detections or []:
             centre = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2])
             off = centre - origin
-            if d.lost:
-                inside = np.linalg.norm(off) <= c.lost_search_heights * h
-            elif dist > c.min_search_radius * h:
+            if dist > c.min_search_radius * h:
                 inside = (_angle_between(off, travel) <= 2 * c.cone_half_angle_deg
                           and 0.4 * dist <= np.linalg.norm(off) <= 1.8 * dist + 0.5 * w)
             else:
@@ -223,10 +221,8 @@ class MultiDancerTracker:
             if not overlapping and detections is not None:
                 confirmed = any(box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2 for det in detections)
                 d.missed = 0 if confirmed else d.missed + 1
-                if d.missed >= c.max_missed_detections and detections:
-                    d.status, d.lost = OCCLUDED, True
-                    d.occluded_since = d.occlusion_end = t
-                    d.confidence = 0.0
+                if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
+                                                                                                  detections):
                     continue
             if not overlapping:
                 d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.center)]
@@ -249,13 +245,38 @@ class MultiDancerTracker:
                 continue
             # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
             own = d.tracker.update(frame, learn=False).box
-            d.box = d.stored_box if d.lost else self._predicted_box(d, t)
+            d.box = self._predicted_box(d, t)
             others = [o.box for o in self.dancers if o is not d]
             clear_now = not any(box_overlap(b, o) > c.overlap_threshold for o in others for b in (d.box, own))
             if t >= d.occlusion_end or clear_now:
                 self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames,
                                extra=[own])
         return self.result()
+
+    def _jump_to_detection(self, d: DancerTrack, frame, detections) -> bool:
+        """A dancer whose box has held no detected person for a while moves to a detected person nearby that
+        nobody else tracks, if that person's histogram matches the stored one clearly better than the box does
+        (the tracker drifted off, e.g. in a jump). Returns whether it moved."""
+        c = self.config
+        current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
+        others = [o.box for o in self.dancers if o is not d]
+        best, best_score = None, max(current + 0.1, c.relocate_min_similarity)
+        for det in detections:
+            if any(box_iou(det, o) > 0.3 for o in others):
+                continue
+            off = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2]) - d.center
+            if np.linalg.norm(off) > c.lost_search_heights * d.box[3]:
+                continue
+            score = histogram_similarity(colour_histogram(frame, det), d.stored_histogram)
+            if score > best_score:
+                best, best_score = tuple(float(v) for v in det), score
+        if best is None:
+            return False
+        d.tracker.init(frame, best)  # its filter learned whatever it drifted onto: start afresh
+        d.box, d.missed, d.confidence = best, 0, float(np.clip(best_score, 0, 1))
+        d.centers, d.clear_track = [d.center], []
+        d.stored_box, d.stored_frame = best, self.frame_index
+        return True
 
     @staticmethod
     def _fit_velocity(track) -> np.ndarray:
@@ -298,13 +319,7 @@ class MultiDancerTracker:
 
     def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
         c = self.config
-        if d.lost:  # the detector saw no one on the patches near its box: only detected people qualify
-            if detections is None:
-                return
-            candidates = self._cone_candidates(d, detections)[-len(detections):] if detections else []
-            candidates = [b for b in candidates if b in [tuple(float(v) for v in det) for det in detections]]
-        else:
-            candidates = self._cone_candidates(d, detections) + [tuple(b) for b in extra]
+        candidates = self._cone_candidates(d, detections) + [tuple(b) for b in extra]
         others = [o.box for o in self.dancers if o is not d and o.status == TRACKED]
         best, best_score = None, -np.inf
         for box in candidates:
@@ -315,14 +330,10 @@ class MultiDancerTracker:
                 best, best_score = box, score
         if best is None or (best_score < c.relocate_min_similarity and not force):
             return  # stay occluded; try again next frame
-        if d.lost:  # its filter learned whatever it drifted onto: start afresh on the found person
-            d.tracker.init(frame, best)
-        else:
-            d.tracker.center = (best[0] + best[2] / 2, best[1] + best[3] / 2)
-            d.tracker.scale = best[2] / d.tracker.base_size[0]
+        d.tracker.center = (best[0] + best[2] / 2, best[1] + best[3] / 2)
+        d.tracker.scale = best[2] / d.tracker.base_size[0]
         d.box = best
         d.status = TRACKED
-        d.lost = False
         d.missed = 0
         d.confidence = float(np.clip(best_score, 0, 1))
         d.centers = [d.center]

@@ -139,11 +139,12 @@ def fill_between_detections(keypoints: np.ndarray, detected: np.ndarray, max_gap
 def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: PoseDetector | None = None,
                 boxes=None, num_dancers: int | None = None, detect_every: int = 1, overlay: bool = True,
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
-                init_seconds: float = 3.0, write: bool = True) -> TrackRun:
+                init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None) -> TrackRun:
     """Track the dancers of ``video`` and estimate their 2D poses; write the outputs to ``out_dir``.
 
     ``boxes``: initial (x, y, w, h) px boxes in the first frame, or None to find ``num_dancers`` people with the
-    detector in the first ``init_seconds`` of the video (each starts where it is first seen). ``detect_every``: run the detector on every k-th frame only
+    detector in the first ``init_seconds`` of the video (each starts where it is first seen); ``starts`` gives the
+    start frames and boxes directly instead. ``detect_every``: run the detector on every k-th frame only
     (keypoints in between are interpolated). ``detector`` None: boxes only, no keypoints.
     """
     started = time.perf_counter()
@@ -151,7 +152,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         raise HDVRError(f"--detect-every must be >= 1, got {detect_every}")
     reader = VideoReader(video)
     info = reader.info
-    if boxes is None:
+    if starts is not None:
+        pass
+    elif boxes is None:
         if detector is None:
             raise HDVRError("give the dancers' boxes (--boxes) or a detector to find them (--dancers N)")
         if not num_dancers or num_dancers < 1:
@@ -163,6 +166,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         starts = [DancerStart(0, tuple(float(v) for v in b)) for b in boxes]
     check_boxes_in_frame([s.box for s in starts], info.size)
     boxes = [s.box for s in starts]
+    if not boxes:
+        raise HDVRError("no dancer to track")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     n = len(boxes)

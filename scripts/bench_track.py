@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+"""Benchmark of ``hdvr track``: speed, what a cheaper detector setting costs in accuracy, memory vs video length.
+
+Runs on this machine's CPU with the detector limited to 2 threads (the target machine has 2 cores). Writes a
+markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown PATH``, to that file.
+
+1. Speed: a procedural 640x480 clip with 2 dancers that cross (hdvr.tracking.testclips), full ``track_video``
+   (decode, detector, Algorithm 1* and 2*, overlay H.264 encode, outputs), median frames/s over ``--repeats`` runs
+   for each detector setting (input size, every k-th frame). Load average is printed: other processes on the
+   machine slow every figure down.
+2. Accuracy: per setting, MOTA/IDF1/HOTA/ID switches of the tracks against the clip's ground truth (trackeval),
+   and PCK@0.2 of the 2D keypoints against the reference setting (640 px input on every frame) on the real video
+   ../shared/data/video/two-people-tree (scaled to 640 px wide), dancers found automatically once.
+3. Memory: peak resident memory of ``hdvr track`` (own process) on a short and a 4x longer clip.
+
+Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--markdown docs/benchmarks.md]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+os.environ.setdefault("HDVR_NO_PROGRESS", "1")
+
+import cv2  # noqa: E402
+import numpy as np  # noqa: E402
+
+from hdvr.pose2d.models import default_pose_model  # noqa: E402
+from hdvr.pose2d.onnx_pose import OnnxPoseDetector  # noqa: E402
+from hdvr.tracking.evaluation import evaluate_tracking, pck  # noqa: E402
+from hdvr.tracking.pipeline import find_dancers, track_video  # noqa: E402
+from hdvr.tracking.testclips import default_crossing_specs, render_clip  # noqa: E402
+from hdvr.video import VideoReader, VideoWriter  # noqa: E402
+
+SETTINGS = [(640, 1), (320, 1), (320, 2), (320, 3), (256, 2)]  # (detector input px, detector every k frames)
+REAL_VIDEO = REPO.parent / "shared" / "data" / "video" / "two-people-tree" / "video.mp4"
+
+
+def cpu_name() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def scaled_copy(src: Path, dst: Path, width: int = 640) -> None:
+    reader = VideoReader(src)
+    w, h = reader.info.size
+    size = (width, int(round(h * width / w / 2)) * 2)
+    with VideoWriter(dst, reader.info.fps, size, crf=18) as writer:
+        for frame in reader:
+            writer.write(cv2.resize(frame, size, interpolation=cv2.INTER_AREA))
+
+
+def peak_rss_mb(video: Path, out: Path, boxes: str) -> float:
+    code = ("import resource, sys; from hdvr.cli import main; "
+            f"rc = main(['track', {str(video)!r}, '--out', {str(out)!r}, '--boxes', {boxes!r}, "
+            "'--detect-every', '2', '--threads', '2']); "
+            "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)")
+    proc = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True,
+                          env=dict(os.environ, PYTHONPATH=str(REPO), HDVR_NO_PROGRESS="1"), check=True)
+    return float(proc.stdout.strip().splitlines()[-1])
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--frames", type=int, default=300, help="length of the procedural clip")
+    parser.add_argument("--quick", action="store_true", help="1 repeat, 150 frames, no memory test")
+    parser.add_argument("--markdown", type=Path, help="also write the markdown section to this file")
+    args = parser.parse_args()
+    if args.quick:
+        args.repeats, args.frames = 1, 150
+    model = default_pose_model()
+    tmp = Path(tempfile.mkdtemp(prefix="hdvr-bench-"))
+    clip = tmp / "crossing.mp4"
+    truth = render_clip(clip, frames=args.frames, specs=default_crossing_specs(num_figures=2, seed=0))
+    boxes = truth.boxes[0]
+    load_before = os.getloadavg()
+    lines = ["## Tracking and 2D pose", "",
+             f"Measured by `python3 scripts/bench_track.py{' --quick' if args.quick else ''}` on {cpu_name()}, "
+             f"{os.cpu_count()} cores visible, detector (onnxruntime) limited to 2 threads; load average "
+             f"{load_before[0]:.1f} at the start (other processes share the machine: figures are lower bounds). "
+             f"Python {platform.python_version()}.", ""]
+
+    # 1-2: speed and tracking accuracy on the procedural clip
+    lines += [f"### Speed: 640x480, 2 dancers, {args.frames} frames (procedural crossing clip), overlay included", "",
+              "| detector input | detector every | frames/s (median) | ms/frame decode / detect / track / select "
+              "/ overlay | MOTA | IDF1 | HOTA | ID switches |",
+              "|---|---|---|---|---|---|---|---|"]
+    speed = {}
+    for size, every in SETTINGS:
+        detector = OnnxPoseDetector(model, input_size=size, threads=2)
+        fps, stages, run = [], None, None
+        for _ in range(args.repeats):
+            run = track_video(clip, tmp / f"out-{size}-{every}", detector=detector, boxes=boxes,
+                              detect_every=every)
+            n = run.boxes.shape[0]
+            fps.append(n / run.seconds)
+            stages = {k: 1000 * v / n for k, v in run.stage_seconds.items()}
+        scores = evaluate_tracking(truth.boxes, run.boxes)
+        speed[(size, every)] = statistics.median(fps)
+        stage_text = " / ".join(f"{stages[k]:.1f}" for k in ("decode", "detect", "track", "select", "overlay"))
+        lines.append(f"| {size} px | {every} | {statistics.median(fps):.1f} | {stage_text} | {scores.mota:.3f} | "
+                     f"{scores.idf1:.3f} | {scores.hota:.3f} | {scores.id_switches} |")
+        print(lines[-1], file=sys.stderr)
+    lines.append("")
+
+    # 2: keypoint accuracy of cheaper settings against the reference, on the real video
+    if REAL_VIDEO.is_file():
+        real = tmp / "two-people-640.mp4"
+        scaled_copy(REAL_VIDEO, real)
+        reference_detector = OnnxPoseDetector(model, input_size=640, threads=2)
+        starts = find_dancers(real, reference_detector, 2)
+        runs = {}
+        for size, every in SETTINGS:
+            detector = reference_detector if size == 640 else OnnxPoseDetector(model, input_size=size, threads=2)
+            runs[(size, every)] = track_video(real, tmp / f"real-{size}-{every}", detector=detector, starts=starts,
+                                              detect_every=every, overlay=False)
+        ref = runs[SETTINGS[0]]
+        lines += ["### Keypoint accuracy of cheaper settings (real video two-people-tree scaled to 640x360)", "",
+                  "PCK@0.2 (torso) of each dancer's keypoints against the reference setting (640 px input, every "
+                  "frame), over the frames where the reference has the joint; frames/s as measured on this clip.", "",
+                  "| detector input | detector every | PCK@0.2 vs reference | frames/s |", "|---|---|---|---|"]
+        for key, run in runs.items():
+            n = run.boxes.shape[0]
+            scores = [pck(run.keypoints[:, i], ref.keypoints[:, i]) for i in range(ref.keypoints.shape[1])]
+            scores = [s for s in scores if np.isfinite(s)]
+            lines.append(f"| {key[0]} px | {key[1]} | {np.mean(scores):.3f} | {n / run.seconds:.1f} |")
+            print(lines[-1], file=sys.stderr)
+        lines.append("")
+
+    # 3: memory flat in video length
+    if not args.quick:
+        long_clip = tmp / "long.mp4"
+        render_clip(long_clip, frames=4 * args.frames, specs=default_crossing_specs(num_figures=2, seed=0))
+        box_arg = ";".join(",".join(f"{v:g}" for v in b) for b in boxes)
+        short_mb = peak_rss_mb(clip, tmp / "mem-short", box_arg)
+        long_mb = peak_rss_mb(long_clip, tmp / "mem-long", box_arg)
+        lines += ["### Memory", "",
+                  f"Peak resident memory of `hdvr track` (detector 320 px every 2nd frame, overlay on): "
+                  f"{short_mb:.0f} MB for {args.frames} frames, {long_mb:.0f} MB for {4 * args.frames} frames.", ""]
+        print(lines[-2], file=sys.stderr)
+    load_after = os.getloadavg()
+    lines.append(f"Load average at the end: {load_after[0]:.1f}.")
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if args.markdown:
+        args.markdown.parent.mkdir(parents=True, exist_ok=True)
+        args.markdown.write_text(text)
+    (tmp / "summary.json").write_text(json.dumps({f"{k[0]}-{k[1]}": v for k, v in speed.items()}))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
