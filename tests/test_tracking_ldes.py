@@ -78,7 +78,7 @@ def test_learn_false_keeps_model():
 def test_features_shape():
     patch = np.random.default_rng(0).integers(0, 255, (64, 40, 3), dtype=np.uint8)
     f = hog_colour_features(patch, 4, 9)
-    assert f.shape == (16, 10, 13) and f.dtype == np.float32
+    assert f.shape == (16, 10, 12) and f.dtype == np.float32
 
 
 def test_bad_boxes():

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import cv2
 import numpy as np
+import scipy.fft as sfft
 
 from hdvr.errors import HDVRError
 
@@ -75,11 +76,12 @@ def _gaussian_labels(h: int, w: int, sigma_y: float, sigma_x: float) -> np.ndarr
 
 def hog_colour_features(patch_bgr: np.ndarray, cell: int, bins: int) -> np.ndarray:
     """Per-cell features of a patch: ``bins`` gradient-orientation channels (normalised per cell), the cell's
-    grey level and its Lab colour (3); returns (H/cell, W/cell, bins + 4) float32."""
+    luma and its two chroma channels (YCrCb); returns (H/cell, W/cell, bins + 3) float32."""
     h, w = patch_bgr.shape[:2]
     ch, cw = h // cell, w // cell
     patch_bgr = patch_bgr[: ch * cell, : cw * cell]
-    grey = cv2.cvtColor(patch_bgr, cv2.COLOR_BGR2GRAY).astype(np.float32) / 255.0
+    ycc = cv2.cvtColor(patch_bgr, cv2.COLOR_BGR2YCrCb)
+    grey = ycc[..., 0].astype(np.float32) / 255.0
     gx = cv2.Sobel(grey, cv2.CV_32F, 1, 0, ksize=1)
     gy = cv2.Sobel(grey, cv2.CV_32F, 0, 1, ksize=1)
     mag, ang = cv2.cartToPolar(gx, gy)
@@ -88,15 +90,16 @@ def hog_colour_features(patch_bgr: np.ndarray, cell: int, bins: int) -> np.ndarr
     frac = ang - lo
     lo %= bins
     hi = (lo + 1) % bins
-    hist = np.zeros((ch * cell, cw * cell, bins), np.float32)
-    rows, cols = np.indices(lo.shape)
-    hist[rows, cols, lo] = mag * (1 - frac)
-    hist[rows, cols, hi] += mag * frac
-    hist = hist.reshape(ch, cell, cw, cell, bins).sum(axis=(1, 3))
+    # soft-binned orientation histograms of all cells at once: one bincount over (cell, bin) indices
+    rows = np.arange(ch * cell) // cell
+    cols = np.arange(cw * cell) // cell
+    cell_index = (rows[:, None] * cw + cols[None, :]) * bins
+    n = ch * cw * bins
+    hist = np.bincount((cell_index + lo).ravel(), (mag * (1 - frac)).ravel(), n) + \
+        np.bincount((cell_index + hi).ravel(), (mag * frac).ravel(), n)
+    hist = hist.reshape(ch, cw, bins).astype(np.float32)
     hist /= np.sqrt((hist ** 2).sum(axis=2, keepdims=True)) + 0.05
-    lab = cv2.cvtColor(patch_bgr, cv2.COLOR_BGR2Lab).astype(np.float32) / 255.0
-    colour = np.concatenate([grey[..., None], lab], axis=2)
-    colour = colour.reshape(ch, cell, cw, cell, 4).mean(axis=(1, 3)) - 0.5
+    colour = cv2.resize(ycc, (cw, ch), interpolation=cv2.INTER_AREA).astype(np.float32) / 255.0 - 0.5
     return np.concatenate([hist, colour], axis=2)
 
 
@@ -221,18 +224,18 @@ class LDESTracker:
 
     # ------------------------------------------------------------- KCF pieces
     def _kernel_f(self, x: np.ndarray, z: np.ndarray) -> np.ndarray:
-        xf = np.fft.fft2(x, axes=(0, 1))
-        zf = np.fft.fft2(z, axes=(0, 1))
-        cross = np.real(np.fft.ifft2((np.conj(xf) * zf).sum(axis=2)))
+        xf = sfft.fft2(x, axes=(0, 1))
+        zf = sfft.fft2(z, axes=(0, 1))
+        cross = np.real(sfft.ifft2((np.conj(xf) * zf).sum(axis=2)))
         d = (x ** 2).sum() + (z ** 2).sum() - 2 * cross
         k = np.exp(-np.maximum(d, 0) / (self.config.kernel_sigma ** 2 * x.size))
-        return np.fft.fft2(k)
+        return sfft.fft2(k)
 
     def _train(self, x: np.ndarray) -> np.ndarray:
         return self._labels_f / (self._kernel_f(x, x) + self.config.regularisation)
 
     def _respond(self, z: np.ndarray) -> np.ndarray:
-        return np.real(np.fft.ifft2(self._model_alpha_f * self._kernel_f(self._model_x, z))).astype(np.float32)
+        return np.real(sfft.ifft2(self._model_alpha_f * self._kernel_f(self._model_x, z))).astype(np.float32)
 
     @staticmethod
     def _peak(response: np.ndarray) -> tuple[float, float, float]:

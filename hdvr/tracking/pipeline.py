@@ -48,7 +48,8 @@ class TrackRun:
     fps: float
     size: tuple[int, int]
     outputs: list[Path] = field(default_factory=list)
-    seconds: float = 0.0
+    seconds: float = 0.0  # wall clock
+    cpu_seconds: float = 0.0  # CPU time of this process (all threads) during the run
     stage_seconds: dict = field(default_factory=dict)  # decode, detect, track, select, overlay
 
 
@@ -148,6 +149,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     (keypoints in between are interpolated). ``detector`` None: boxes only, no keypoints.
     """
     started = time.perf_counter()
+    cpu_started = time.process_time()
     if detect_every < 1:
         raise HDVRError(f"--detect-every must be >= 1, got {detect_every}")
     reader = VideoReader(video)
@@ -254,6 +256,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         run.outputs += write_outputs(out, run, extra={"source": str(video), "detect_every": detect_every,
                                                       "detector": getattr(detector, "name", None)})
     run.seconds = time.perf_counter() - started
+    run.cpu_seconds = time.process_time() - cpu_started
     run.stage_seconds = stage
     if failure is not None:
         raise failure
