@@ -1,7 +1,9 @@
 """Procedural test videos with known trajectories: textured stick figures that walk, swing their arms, cross
 and occlude each other in front of a textured background.
 
-Each figure has a skeleton (BODY_25 joints, pixels) animated per frame; its ground-truth box is the amodal
+Figures walk in straight lines and turn back at the left and right edges (6 % of the width from them), so a long
+clip has many crossings. Each figure has a skeleton (BODY_25 joints, pixels) animated per frame; its ground-truth
+box is the amodal
 (x, y, w, h) box of the drawn figure, occluded parts included, as in the MOT challenge. Figures are drawn back
 to front in a fixed depth order, so at a crossing the nearer figure hides the farther one.
 Everything is deterministic by ``seed``.
@@ -83,6 +85,13 @@ def skeleton(center: tuple[float, float], height: float, t: float, phase: float)
     return pts
 
 
+def _bounce(x: float, lo: float, hi: float) -> float:
+    """``x`` reflected into [lo, hi] (a walk that turns back at the edges)."""
+    span = hi - lo
+    u = (x - lo) % (2 * span)
+    return lo + (u if u <= span else 2 * span - u)
+
+
 def _texture(colours, size, seed) -> np.ndarray:
     rng = np.random.default_rng(seed)
     h, w = size
@@ -137,7 +146,8 @@ def render_clip(path: str | os.PathLike, frames: int = 150, size=(640, 480), fps
             frame = bg.copy()
             for i in order:
                 s = specs[i]
-                c = (s.start[0] + s.velocity[0] * t, s.start[1] + s.velocity[1] * t)
+                c = (_bounce(s.start[0] + s.velocity[0] * t, 0.06 * size[0], 0.94 * size[0]),
+                     s.start[1] + s.velocity[1] * t)
                 pts = skeleton(c, s.height, t, s.phase)
                 mask = np.zeros((size[1], size[0]), np.uint8)
                 for a, b, thick in _LIMBS:
