@@ -14,8 +14,12 @@ markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown 
    and PCK@0.2 of the 2D keypoints against the reference setting (640 px input on every frame) on the real video
    ../shared/data/video/two-people-tree (scaled to 640 px wide), dancers found automatically once.
 3. Memory: peak resident memory of ``hdvr track`` (own process) on a short and a 4x longer clip.
+4. Detector alone: PCK@0.2 of each input size's poses against the 640 px poses on the same frames of the real
+   video (poses matched by box overlap; a reference pose without a match counts as all wrong), separating the
+   cost of the smaller input from that of tracking and interpolation.
 
-Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--markdown docs/benchmarks.md]
+Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--sections speed,real,memory,detector]
+                                      [--markdown docs/benchmarks.md]
 """
 
 from __future__ import annotations
@@ -84,9 +88,16 @@ def main() -> int:
     parser.add_argument("--frames", type=int, default=300, help="length of the procedural clip")
     parser.add_argument("--quick", action="store_true", help="1 repeat, 150 frames, no memory test")
     parser.add_argument("--markdown", type=Path, help="also write the markdown section to this file")
+    parser.add_argument("--settings", help="detector settings SIZExEVERY, comma-separated (default "
+                        + ",".join(f"{a}x{b}" for a, b in SETTINGS) + "); the first is the reference")
+    parser.add_argument("--sections", default="speed,real,memory,detector",
+                        help="comma-separated subset of speed, real, memory, detector")
     args = parser.parse_args()
     if args.quick:
         args.repeats, args.frames = 1, 150
+    sections = set(args.sections.split(","))
+    if args.settings:
+        SETTINGS[:] = [tuple(int(v) for v in item.split("x")) for item in args.settings.split(",")]
     model = default_pose_model()
     tmp = Path(tempfile.mkdtemp(prefix="hdvr-bench-"))
     clip = tmp / "crossing.mp4"
@@ -100,11 +111,32 @@ def main() -> int:
              f"Python {platform.python_version()}.", ""]
 
     # 1-2: speed and tracking accuracy on the procedural clip
-    lines += [f"### Speed: 640x480, 2 dancers, {args.frames} frames (procedural crossing clip), overlay included", "",
-              "| detector input | detector every | frames/s wall (median) | frames per CPU second (median) | "
-              "wall ms/frame decode / detect / track / select / overlay | MOTA | IDF1 | HOTA | ID switches |",
-              "|---|---|---|---|---|---|---|---|---|"]
     speed = {}
+    if "speed" in sections:
+        lines += speed_section(args, clip, truth, boxes, model, tmp, speed)
+    if "real" in sections and REAL_VIDEO.is_file():
+        lines += real_section(model, tmp)
+    if "memory" in sections and not args.quick:
+        lines += memory_section(args, clip, boxes, tmp)
+    if "detector" in sections and REAL_VIDEO.is_file():
+        lines += detector_section(model)
+    load_after = os.getloadavg()
+    lines.append(f"Load average at the end: {load_after[0]:.1f}.")
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if args.markdown:
+        args.markdown.parent.mkdir(parents=True, exist_ok=True)
+        args.markdown.write_text(text)
+    (tmp / "summary.json").write_text(json.dumps({f"{k[0]}-{k[1]}": v for k, v in speed.items()}))
+    return 0
+
+
+def speed_section(args, clip, truth, boxes, model, tmp, speed) -> list[str]:
+    """Frames/s per detector setting on the procedural clip, and the tracks' scores against its ground truth."""
+    lines = [f"### Speed: 640x480, 2 dancers, {args.frames} frames (procedural crossing clip), overlay included", "",
+             "| detector input | detector every | frames/s wall (median) | frames per CPU second (median) | "
+             "wall ms/frame decode / detect / track / select / overlay | MOTA | IDF1 | HOTA | ID switches |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for size, every in SETTINGS:
         detector = OnnxPoseDetector(model, input_size=size, threads=2)
         fps, cpu_fps, stages, run = [], [], None, None
@@ -123,53 +155,89 @@ def main() -> int:
                      f"{scores.idf1:.3f} | {scores.hota:.3f} | {scores.id_switches} |")
         print(lines[-1], file=sys.stderr)
     lines.append("")
+    return lines
 
-    # 2: keypoint accuracy of cheaper settings against the reference, on the real video
-    if REAL_VIDEO.is_file():
-        real = tmp / "two-people-640.mp4"
-        scaled_copy(REAL_VIDEO, real)
-        reference_detector = OnnxPoseDetector(model, input_size=640, threads=2)
-        starts = find_dancers(real, reference_detector, 2)
-        runs = {}
-        for size, every in SETTINGS:
-            detector = reference_detector if size == 640 else OnnxPoseDetector(model, input_size=size, threads=2)
-            runs[(size, every)] = track_video(real, tmp / f"real-{size}-{every}", detector=detector, starts=starts,
-                                              detect_every=every, overlay=False)
-        ref = runs[SETTINGS[0]]
-        lines += ["### Keypoint accuracy of cheaper settings (real video two-people-tree scaled to 640x360)", "",
-                  "PCK@0.2 (torso) of each dancer's keypoints against the reference setting (640 px input, every "
-                  "frame), over the frames where the reference has the joint; frames/s as measured on this clip.", "",
-                  "| detector input | detector every | PCK@0.2 vs reference | frames/s wall | frames per CPU second |",
-                  "|---|---|---|---|---|"]
-        for key, run in runs.items():
-            n = run.boxes.shape[0]
-            scores = [pck(run.keypoints[:, i], ref.keypoints[:, i]) for i in range(ref.keypoints.shape[1])]
-            scores = [s for s in scores if np.isfinite(s)]
-            lines.append(f"| {key[0]} px | {key[1]} | {np.mean(scores):.3f} | {n / run.seconds:.1f} | "
-                         f"{n / run.cpu_seconds:.1f} |")
-            print(lines[-1], file=sys.stderr)
-        lines.append("")
 
-    # 3: memory flat in video length
-    if not args.quick:
-        long_clip = tmp / "long.mp4"
-        render_clip(long_clip, frames=4 * args.frames, specs=default_crossing_specs(num_figures=2, seed=0))
-        box_arg = ";".join(",".join(f"{v:g}" for v in b) for b in boxes)
-        short_mb = peak_rss_mb(clip, tmp / "mem-short", box_arg)
-        long_mb = peak_rss_mb(long_clip, tmp / "mem-long", box_arg)
-        lines += ["### Memory", "",
-                  f"Peak resident memory of `hdvr track` (detector 320 px every 2nd frame, overlay on): "
-                  f"{short_mb:.0f} MB for {args.frames} frames, {long_mb:.0f} MB for {4 * args.frames} frames.", ""]
-        print(lines[-2], file=sys.stderr)
-    load_after = os.getloadavg()
-    lines.append(f"Load average at the end: {load_after[0]:.1f}.")
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if args.markdown:
-        args.markdown.parent.mkdir(parents=True, exist_ok=True)
-        args.markdown.write_text(text)
-    (tmp / "summary.json").write_text(json.dumps({f"{k[0]}-{k[1]}": v for k, v in speed.items()}))
-    return 0
+def real_section(model, tmp) -> list[str]:
+    """Keypoint accuracy of cheaper settings against the reference, on the real video."""
+    lines = []
+    real = tmp / "two-people-640.mp4"
+    scaled_copy(REAL_VIDEO, real)
+    reference_detector = OnnxPoseDetector(model, input_size=640, threads=2)
+    starts = find_dancers(real, reference_detector, 2)
+    runs = {}
+    for size, every in SETTINGS:
+        detector = reference_detector if size == 640 else OnnxPoseDetector(model, input_size=size, threads=2)
+        runs[(size, every)] = track_video(real, tmp / f"real-{size}-{every}", detector=detector, starts=starts,
+                                          detect_every=every, overlay=False)
+    ref = runs[SETTINGS[0]]
+    lines += ["### Keypoint accuracy of cheaper settings (real video two-people-tree scaled to 640x360)", "",
+              "PCK@0.2 (torso) of each dancer's keypoints against the reference setting (640 px input, every "
+              "frame), over the frames where the reference has the joint; frames/s as measured on this clip.", "",
+              "| detector input | detector every | PCK@0.2 vs reference | frames/s wall | frames per CPU second |",
+              "|---|---|---|---|---|"]
+    for key, run in runs.items():
+        n = run.boxes.shape[0]
+        scores = [pck(run.keypoints[:, i], ref.keypoints[:, i]) for i in range(ref.keypoints.shape[1])]
+        scores = [s for s in scores if np.isfinite(s)]
+        lines.append(f"| {key[0]} px | {key[1]} | {np.mean(scores):.3f} | {n / run.seconds:.1f} | "
+                     f"{n / run.cpu_seconds:.1f} |")
+        print(lines[-1], file=sys.stderr)
+    lines.append("")
+    return lines
+
+
+def memory_section(args, clip, boxes, tmp) -> list[str]:
+    """Peak memory for a short and a 4x longer clip."""
+    lines = []
+    long_clip = tmp / "long.mp4"
+    render_clip(long_clip, frames=4 * args.frames, specs=default_crossing_specs(num_figures=2, seed=0))
+    box_arg = ";".join(",".join(f"{v:g}" for v in b) for b in boxes)
+    short_mb = peak_rss_mb(clip, tmp / "mem-short", box_arg)
+    long_mb = peak_rss_mb(long_clip, tmp / "mem-long", box_arg)
+    lines += ["### Memory", "",
+              f"Peak resident memory of `hdvr track` (detector 320 px every 2nd frame, overlay on): "
+              f"{short_mb:.0f} MB for {args.frames} frames, {long_mb:.0f} MB for {4 * args.frames} frames.", ""]
+    print(lines[-2], file=sys.stderr)
+    return lines
+
+
+def detector_section(model, every: int = 3, sizes=(480, 320, 256)) -> list[str]:
+    """PCK@0.2 of smaller detector inputs against 640 px on the same frames (real video, every 3rd frame)."""
+    from scipy.optimize import linear_sum_assignment
+
+    from hdvr.tracking.appearance import box_iou
+
+    reference = OnnxPoseDetector(model, input_size=640, threads=2)
+    others = {size: OnnxPoseDetector(model, input_size=size, threads=2) for size in sizes}
+    correct = {size: [] for size in sizes}
+    for t, frame in enumerate(VideoReader(REAL_VIDEO)):
+        if t % every:
+            continue
+        ref = reference.detect(frame)
+        for size, det in others.items():
+            got = det.detect(frame)
+            iou = np.array([[box_iou(r.box, g.box) for g in got] for r in ref]).reshape(len(ref), len(got))
+            match = {}
+            if iou.size:
+                for r, g in zip(*linear_sum_assignment(-iou)):
+                    if iou[r, g] >= 0.3:
+                        match[r] = g
+            for r, pose in enumerate(ref):
+                truth = pose.body25()[None]
+                pred = got[match[r]].body25()[None] if r in match else np.full_like(truth, np.nan)
+                score = pck(pred, truth)
+                if np.isfinite(score):
+                    correct[size].append(score)
+    lines = ["### Detector input size alone (real video two-people-tree, 1768x994, every 3rd frame)", "",
+             "PCK@0.2 of the poses found at a smaller input against those at 640 px on the same frames (matched by "
+             "box overlap; a 640 px pose without a match counts as all wrong).", "",
+             "| detector input | PCK@0.2 vs 640 px |", "|---|---|"]
+    for size in sizes:
+        lines.append(f"| {size} px | {np.mean(correct[size]):.3f} |")
+        print(lines[-1], file=sys.stderr)
+    lines.append("")
+    return lines
 
 
 if __name__ == "__main__":

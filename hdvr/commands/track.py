@@ -25,10 +25,12 @@ def register(subparsers) -> None:
                         "(boxes only)")
     p.add_argument("--pose-model", help="a YOLO-pose or RTMO ONNX model file (for --detector onnx)")
     p.add_argument("--openpose-json", help="folder of precomputed OpenPose JSON, one file per frame")
-    p.add_argument("--detector-size", type=int, default=320,
-                   help="longer side of the detector input in pixels (default 320; 640 finds smaller people)")
-    p.add_argument("--detect-every", type=int, default=2,
-                   help="run the detector on every k-th frame, the tracker on all (default 2)")
+    p.add_argument("--detector-size", type=int, default=480,
+                   help="longer side of the detector input in pixels (default 480; 640 is more accurate, 320 "
+                        "faster: see docs/benchmarks.md)")
+    p.add_argument("--detect-every", type=int, default=3,
+                   help="run the detector on every k-th frame, the tracker on all, keypoints interpolated in "
+                        "between (default 3)")
     p.add_argument("--threads", type=int, default=None, help="detector threads (default: CPU count, at most 4)")
     p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")
     p.add_argument("--max-frames", type=int, default=None, help="stop after this many frames")
