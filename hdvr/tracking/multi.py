@@ -247,7 +247,7 @@ class MultiDancerTracker:
             own = d.tracker.update(frame, learn=False).box
             d.box = self._predicted_box(d, t)
             others = [o.box for o in self.dancers if o is not d]
-            clear_now = not any(box_overlap(b, o) > c.overlap_threshold for o in others for b in (d.box, own))
+            clear_now = any(all(box_overlap(b, o) <= c.overlap_threshold for o in others) for b in (d.box, own))
             if t >= d.occlusion_end or clear_now:
                 self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames,
                                extra=[own])
