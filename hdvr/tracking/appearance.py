@@ -1,0 +1,76 @@
+"""Colour histograms of image regions, the appearance memory of Algorithms 1* and 2*.
+
+A histogram is hue x saturation (HSV, 16 x 8 bins, L1-normalised) of the pixels inside a box or mask; pixels too
+dark or too unsaturated to have a meaningful hue still count through a separate value-only part (8 bins), so that
+black and white clothes are told apart too. Similarity is OpenCV's histogram correlation in [-1, 1].
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+HUE_BINS, SAT_BINS, VALUE_BINS = 16, 8, 8
+
+
+def clip_box(box, size) -> tuple[int, int, int, int] | None:
+    """Integer (x0, y0, x1, y1) of ``box`` = (x, y, w, h) px clipped to an image of ``size`` = (w, h); None if
+    nothing of it is inside."""
+    x, y, w, h = box
+    if not np.all(np.isfinite([x, y, w, h])):
+        return None
+    x0, y0 = max(int(np.floor(x)), 0), max(int(np.floor(y)), 0)
+    x1, y1 = min(int(np.ceil(x + w)), size[0]), min(int(np.ceil(y + h)), size[1])
+    if x1 - x0 < 2 or y1 - y0 < 2:
+        return None
+    return x0, y0, x1, y1
+
+
+def colour_histogram(frame_bgr: np.ndarray, box, shrink: float = 0.15, mask: np.ndarray | None = None):
+    """Histogram of ``box`` = (x, y, w, h) px in ``frame_bgr``, after shrinking the box by ``shrink`` of its
+    size on each side (less background). ``mask`` (same size as the frame, uint8) restricts it further.
+    Returns a float32 vector, or None if the box is outside the frame or has no pixels."""
+    x, y, w, h = box
+    inner = (x + shrink * w, y + shrink * h, w * (1 - 2 * shrink), h * (1 - 2 * shrink))
+    r = clip_box(inner, (frame_bgr.shape[1], frame_bgr.shape[0]))
+    if r is None:
+        return None
+    x0, y0, x1, y1 = r
+    hsv = cv2.cvtColor(frame_bgr[y0:y1, x0:x1], cv2.COLOR_BGR2HSV)
+    sub_mask = None if mask is None else np.ascontiguousarray(mask[y0:y1, x0:x1])
+    if sub_mask is not None and not sub_mask.any():
+        return None
+    chromatic = ((hsv[..., 1] > 40) & (hsv[..., 2] > 40)).astype(np.uint8) * 255
+    achromatic = 255 - chromatic
+    if sub_mask is not None:
+        chromatic &= sub_mask
+        achromatic &= sub_mask
+    hs = cv2.calcHist([hsv], [0, 1], chromatic, [HUE_BINS, SAT_BINS], [0, 180, 0, 256]).ravel()
+    v = cv2.calcHist([hsv], [2], achromatic, [VALUE_BINS], [0, 256]).ravel()
+    hist = np.concatenate([hs, v]).astype(np.float32)
+    total = hist.sum()
+    return hist / total if total > 0 else None
+
+
+def histogram_similarity(a, b) -> float:
+    """Correlation of two histograms in [-1, 1]; -1 when either is missing."""
+    if a is None or b is None:
+        return -1.0
+    return float(cv2.compareHist(a, b, cv2.HISTCMP_CORREL))
+
+
+def box_iou(a, b) -> float:
+    """Intersection over union of two (x, y, w, h) boxes."""
+    ix = max(0.0, min(a[0] + a[2], b[0] + b[2]) - max(a[0], b[0]))
+    iy = max(0.0, min(a[1] + a[3], b[1] + b[3]) - max(a[1], b[1]))
+    inter = ix * iy
+    union = a[2] * a[3] + b[2] * b[3] - inter
+    return float(inter / union) if union > 0 else 0.0
+
+
+def box_overlap(a, b) -> float:
+    """Intersection over the smaller box's area, in [0, 1] (1 when one box lies inside the other)."""
+    ix = max(0.0, min(a[0] + a[2], b[0] + b[2]) - max(a[0], b[0]))
+    iy = max(0.0, min(a[1] + a[3], b[1] + b[3]) - max(a[1], b[1]))
+    smaller = min(a[2] * a[3], b[2] * b[3])
+    return float(ix * iy / smaller) if smaller > 0 else 0.0

@@ -1,0 +1,126 @@
+"""Dancer boxes in and out: the ``--boxes`` argument, box files, MOT challenge text and JSON.
+
+Boxes are (x, y, w, h) pixels, (x, y) the top-left corner. Track arrays are (T, N, 4) float with NaN rows where a
+dancer has no box. MOT text (MOTChallenge ``gt.txt`` layout) has one line per box:
+``frame, id, x, y, w, h, confidence, -1, -1, -1`` with 1-based frame numbers and ids.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+from hdvr.errors import HDVRError
+from hdvr.io.atomic import write_text_atomic
+
+
+def parse_boxes(text: str) -> list[tuple[float, float, float, float]]:
+    """``"x,y,w,h;x,y,w,h"`` -> list of boxes (whitespace allowed)."""
+    boxes = []
+    for part in text.replace("\n", ";").split(";"):
+        part = part.strip()
+        if not part:
+            continue
+        try:
+            vals = [float(v) for v in part.replace(" ", ",").split(",") if v != ""]
+        except ValueError:
+            raise HDVRError(f"cannot read box {part!r}: expected four numbers x,y,w,h") from None
+        if len(vals) != 4:
+            raise HDVRError(f"box {part!r} has {len(vals)} numbers; expected four: x,y,w,h")
+        if vals[2] <= 0 or vals[3] <= 0:
+            raise HDVRError(f"box {part!r} must have a positive width and height")
+        boxes.append(tuple(vals))
+    if not boxes:
+        raise HDVRError("no box given: expected x,y,w,h;x,y,w,h ...")
+    return boxes
+
+
+def read_boxes_file(path: str | os.PathLike) -> list[tuple[float, float, float, float]]:
+    """Initial boxes from a file: JSON (``[[x, y, w, h], ...]`` or ``{"boxes": [...]}``), MOT text (the boxes of
+    the first frame, ordered by id) or plain ``x,y,w,h`` lines."""
+    p = Path(path)
+    if not p.is_file():
+        raise HDVRError(f"boxes file not found: {p}")
+    text = p.read_text(encoding="utf-8", errors="replace")
+    if text.lstrip().startswith(("[", "{")):
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError:
+            raise HDVRError(f"corrupt JSON in boxes file {p}") from None
+        items = doc.get("boxes", doc.get("initial_boxes")) if isinstance(doc, dict) else doc
+        if not isinstance(items, list):
+            raise HDVRError(f"boxes file {p}: expected a list of [x, y, w, h] under 'boxes'")
+        return parse_boxes(";".join(",".join(str(v) for v in b) for b in items))
+    rows = [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
+    if rows and len(rows[0].split(",")) >= 6:  # MOT text
+        mot = read_mot(p)
+        first = mot[0]
+        return [tuple(b) for b in first if np.isfinite(b).all()]
+    return parse_boxes(";".join(rows))
+
+
+def check_boxes_in_frame(boxes, size: tuple[int, int]) -> None:
+    """Raise :class:`HDVRError` for a box that lies (mostly) outside a frame of ``size`` = (w, h)."""
+    w, h = size
+    for i, (x, y, bw, bh) in enumerate(boxes):
+        ix = max(0.0, min(x + bw, w) - max(x, 0.0))
+        iy = max(0.0, min(y + bh, h) - max(y, 0.0))
+        if ix * iy < 0.5 * bw * bh:
+            raise HDVRError(f"box {i} ({x:g},{y:g},{bw:g},{bh:g}) lies outside the {w}x{h} frame "
+                            f"(less than half of it is inside)")
+
+
+def write_mot(path: str | os.PathLike, tracks: np.ndarray, confidence: np.ndarray | None = None) -> None:
+    """Write (T, N, 4) tracks as MOT text (atomically); NaN rows are skipped."""
+    lines = []
+    for t, frame_boxes in enumerate(np.asarray(tracks, float)):
+        for i, b in enumerate(frame_boxes):
+            if not np.isfinite(b).all():
+                continue
+            conf = 1.0 if confidence is None else float(confidence[t, i])
+            lines.append(f"{t + 1},{i + 1},{b[0]:.2f},{b[1]:.2f},{b[2]:.2f},{b[3]:.2f},{conf:.3f},-1,-1,-1")
+    write_text_atomic(path, "\n".join(lines) + ("\n" if lines else ""))
+
+
+def read_mot(path: str | os.PathLike, num_frames: int | None = None) -> np.ndarray:
+    """MOT text -> (T, N, 4) with N = the largest id and T = the last frame (or ``num_frames``)."""
+    p = Path(path)
+    if not p.is_file():
+        raise HDVRError(f"MOT file not found: {p}")
+    try:
+        data = np.loadtxt(p, delimiter=",", ndmin=2, usecols=range(6))
+    except ValueError:
+        raise HDVRError(f"cannot read MOT text {p}: expected lines frame,id,x,y,w,h,...") from None
+    if data.size == 0:
+        raise HDVRError(f"MOT file {p} has no boxes")
+    frames = data[:, 0].astype(int)
+    ids = data[:, 1].astype(int)
+    if frames.min() < 1 or ids.min() < 1:
+        raise HDVRError(f"MOT file {p}: frame numbers and ids start at 1")
+    t = num_frames or int(frames.max())
+    out = np.full((t, int(ids.max()), 4), np.nan)
+    for f, i, row in zip(frames, ids, data[:, 2:6]):
+        if f <= t:
+            out[f - 1, i - 1] = row
+    return out
+
+
+def write_tracks_json(path: str | os.PathLike, tracks: np.ndarray, status, fps: float, size: tuple[int, int],
+                      confidence: np.ndarray | None = None, extra: dict | None = None) -> None:
+    """Write tracks as JSON (atomically): per dancer the per-frame box [x, y, w, h] (null where absent), status
+    ("tracked" or "occluded") and confidence."""
+    tracks = np.asarray(tracks, float)
+    dancers = []
+    for i in range(tracks.shape[1]):
+        dancers.append({
+            "id": i,
+            "boxes": [None if not np.isfinite(b).all() else [round(float(v), 2) for v in b] for b in tracks[:, i]],
+            "status": [s[i] for s in status],
+            "confidence": None if confidence is None else [round(float(c), 3) for c in confidence[:, i]],
+        })
+    doc = {"format": "hdvr-tracks-1", "box": "x, y, w, h pixels, top-left origin", "fps": fps,
+           "image_size": list(size), "num_frames": int(tracks.shape[0]), "dancers": dancers, **(extra or {})}
+    write_text_atomic(path, json.dumps(doc, separators=(",", ":")))

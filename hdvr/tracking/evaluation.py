@@ -1,0 +1,116 @@
+"""Tracking and 2D keypoint metrics.
+
+MOTA, IDF1, identity switches and HOTA come from ``trackeval`` (the maintained implementation of the MOT and HOTA
+benchmarks' metrics), fed with per-frame IoU similarities; nothing of the metrics is re-implemented here.
+PCK@alpha for keypoints: a predicted joint is correct when it lies within alpha x the torso diameter (the larger
+of the two shoulder-to-opposite-hip distances, LSP convention) of the ground truth; joints missing in the
+ground truth do not count, joints missing in the prediction count as wrong.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from hdvr.errors import HDVRError
+from hdvr.layouts import BODY25_NAMES
+
+
+@dataclass(frozen=True)
+class TrackingScores:
+    """Scores of tracked boxes against ground-truth boxes (fractions in [0, 1], MOTA may be negative)."""
+
+    mota: float
+    idf1: float
+    hota: float
+    id_switches: int
+    recall: float
+    precision: float
+    frames: int
+
+    def as_dict(self) -> dict:
+        return {"MOTA": self.mota, "IDF1": self.idf1, "HOTA": self.hota, "IDSW": self.id_switches,
+                "recall": self.recall, "precision": self.precision, "frames": self.frames}
+
+
+def _iou_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """IoU between (n, 4) and (m, 4) (x, y, w, h) boxes."""
+    if len(a) == 0 or len(b) == 0:
+        return np.zeros((len(a), len(b)))
+    ax0, ay0, ax1, ay1 = a[:, 0], a[:, 1], a[:, 0] + a[:, 2], a[:, 1] + a[:, 3]
+    bx0, by0, bx1, by1 = b[:, 0], b[:, 1], b[:, 0] + b[:, 2], b[:, 1] + b[:, 3]
+    iw = np.clip(np.minimum(ax1[:, None], bx1[None]) - np.maximum(ax0[:, None], bx0[None]), 0, None)
+    ih = np.clip(np.minimum(ay1[:, None], by1[None]) - np.maximum(ay0[:, None], by0[None]), 0, None)
+    inter = iw * ih
+    union = (a[:, 2] * a[:, 3])[:, None] + (b[:, 2] * b[:, 3])[None] - inter
+    return np.where(union > 0, inter / np.where(union > 0, union, 1), 0.0)
+
+
+def evaluate_tracking(gt_boxes: np.ndarray, tracked_boxes: np.ndarray, iou_threshold: float = 0.5) -> TrackingScores:
+    """Score ``tracked_boxes`` (T, N, 4) against ``gt_boxes`` (T, M, 4); (x, y, w, h) pixels, NaN rows = absent.
+
+    Ids are the second index of each array. MOTA and IDF1 use ``iou_threshold``; HOTA averages over trackeval's
+    thresholds 0.05 .. 0.95.
+    """
+    from trackeval.metrics import CLEAR, HOTA, Identity
+
+    gt_boxes = np.asarray(gt_boxes, float)
+    tracked_boxes = np.asarray(tracked_boxes, float)
+    if gt_boxes.ndim != 3 or tracked_boxes.ndim != 3 or gt_boxes.shape[0] != tracked_boxes.shape[0]:
+        raise HDVRError(f"box arrays must be (T, N, 4) with the same T; got {gt_boxes.shape} and "
+                        f"{tracked_boxes.shape}")
+    data = {"gt_ids": [], "tracker_ids": [], "similarity_scores": [], "num_gt_dets": 0, "num_tracker_dets": 0,
+            "num_gt_ids": gt_boxes.shape[1], "num_tracker_ids": tracked_boxes.shape[1],
+            "num_timesteps": gt_boxes.shape[0]}
+    for g, p in zip(gt_boxes, tracked_boxes):
+        gi = np.flatnonzero(np.isfinite(g).all(axis=1))
+        pi = np.flatnonzero(np.isfinite(p).all(axis=1))
+        data["gt_ids"].append(gi.astype(int))
+        data["tracker_ids"].append(pi.astype(int))
+        data["similarity_scores"].append(_iou_matrix(g[gi], p[pi]))
+        data["num_gt_dets"] += len(gi)
+        data["num_tracker_dets"] += len(pi)
+    config = {"THRESHOLD": iou_threshold, "PRINT_CONFIG": False}
+    clear = CLEAR(config).eval_sequence(data)
+    ident = Identity(config).eval_sequence(data)
+    hota = HOTA().eval_sequence(data)
+    return TrackingScores(mota=float(clear["MOTA"]), idf1=float(ident["IDF1"]), hota=float(np.mean(hota["HOTA"])),
+                          id_switches=int(clear["IDSW"]), recall=float(clear["CLR_Re"]),
+                          precision=float(clear["CLR_Pr"]), frames=int(gt_boxes.shape[0]))
+
+
+def torso_diameter(keypoints: np.ndarray) -> np.ndarray:
+    """(...,) px: the larger of |left_shoulder - right_hip| and |right_shoulder - left_hip| of BODY_25 keypoints
+    (..., 25, >=2); NaN where neither is available."""
+    j = {n: i for i, n in enumerate(BODY25_NAMES)}
+    a = np.linalg.norm(keypoints[..., j["left_shoulder"], :2] - keypoints[..., j["right_hip"], :2], axis=-1)
+    b = np.linalg.norm(keypoints[..., j["right_shoulder"], :2] - keypoints[..., j["left_hip"], :2], axis=-1)
+    return np.fmax(a, b)
+
+
+def pck(predicted: np.ndarray, truth: np.ndarray, alpha: float = 0.2, joints=None) -> float:
+    """PCK@alpha of BODY_25 keypoints (T, 25, 2 or 3) px against the ground truth (same shape); see module doc.
+
+    ``joints``: indices to score (default: every joint that the ground truth has). Frames where the torso
+    diameter is unknown do not count. Returns NaN when nothing can be scored.
+    """
+    predicted = np.asarray(predicted, float)
+    truth = np.asarray(truth, float)
+    if predicted.shape[:-1] != truth.shape[:-1]:
+        raise HDVRError(f"keypoint arrays differ in shape: {predicted.shape} vs {truth.shape}")
+    ref = torso_diameter(truth)  # (T,) from the full skeleton, before selecting joints
+    if joints is not None:
+        predicted, truth = predicted[..., joints, :], truth[..., joints, :]
+    has_truth = np.isfinite(truth[..., :2]).all(axis=-1)
+    if truth.shape[-1] >= 3:
+        has_truth &= truth[..., 2] > 0
+    has_truth &= np.isfinite(ref)[..., None]
+    if not has_truth.any():
+        return float("nan")
+    dist = np.linalg.norm(predicted[..., :2] - truth[..., :2], axis=-1)
+    valid_pred = np.isfinite(dist)
+    if predicted.shape[-1] >= 3:
+        valid_pred &= predicted[..., 2] > 0
+    correct = valid_pred & (np.where(valid_pred, dist, np.inf) <= alpha * ref[..., None])
+    return float(correct[has_truth].mean())

@@ -1,0 +1,341 @@
+"""Algorithm 1* of the paper: N dancers tracked through mutual occlusion.
+
+Each dancer has its own LDES-style tracker (:mod:`hdvr.tracking.ldes`). Per frame:
+
+1. every dancer that is being tracked is moved by its tracker; while it overlaps no other dancer its colour
+   histogram and velocity are stored (the appearance and motion memory), and its tracker learns;
+2. while it overlaps another dancer the tracker does not learn; a *tracking failure* shows as a sudden change of
+   motion (direction turned by more than ``failure_angle_deg``, a stall or a jump) or as a histogram that no
+   longer matches the stored one;
+3. on a failure the dancer is *occluded*: its box moves on with the stored velocity, and the frame where the
+   overlap will end is predicted from the stored velocities of the two dancers;
+4. from that frame on, the dancer is *relocated*: candidate patches (the stored box size) are laid out in a cone
+   along the stored motion direction, plus any person detections inside the cone; the candidate whose histogram
+   correlates best with the stored one takes the dancer, and tracking resumes there.
+
+When person detections are given (``step(frame, detections)``), a dancer clear of the others whose box has held
+no detected person for ``max_missed_detections`` detector frames in a row may have lost its dancer (e.g. in a
+jump): if a detected person nearby, tracked by no one, matches its stored histogram clearly better than its box
+does, the dancer moves there and its tracker restarts. Its stored histogram is only updated on frames where no
+detection is missing on its box.
+
+Dancers may start later than the first frame (:meth:`MultiDancerTracker.add_dancer`).
+
+Boxes are (x, y, w, h) pixels, top-left corner; velocities px/frame; frames are 0-based indices.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hdvr.errors import HDVRError
+from hdvr.tracking.appearance import box_iou, box_overlap, colour_histogram, histogram_similarity
+from hdvr.tracking.ldes import LDESConfig, LDESTracker
+
+TRACKED, OCCLUDED = "tracked", "occluded"
+
+
+@dataclass(frozen=True)
+class MultiTrackerConfig:
+    """Parameters of Algorithm 1* (defaults tuned on the procedural crossing clips)."""
+
+    # dancers: a tight search window and a strong colour term keep thin limbs from losing to a textured
+    # background; dancers turn in depth, not in the image plane, so in-plane rotation is not estimated
+    ldes: LDESConfig = field(default_factory=lambda: LDESConfig(padding=0.6, colour_weight=0.5,
+                                                                estimate_rotation=False, estimate_scale=False))
+    overlap_threshold: float = 0.05  # intersection / smaller box area above which two dancers overlap
+    velocity_window: int = 30  # clear frames over which the stored velocity is fitted (least squares)
+    histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
+    failure_angle_deg: float = 60.0  # turn of the motion direction that counts as a tracking failure
+    min_speed: float = 0.7  # px/frame: below this the direction is not trusted (histogram test only)
+    failure_histogram: float = 0.5  # similarity to the stored histogram below this = failure while overlapped
+    failure_psr: float = 2.5  # correlation-filter peak-to-sidelobe ratio below this = failure while overlapped
+    motion_window: int = 4  # frames over which the current motion is measured
+    min_motion_px: float = 4.0  # displacement over the motion window below which its direction is not trusted
+    cone_half_angle_deg: float = 25.0
+    cone_radii: tuple[float, ...] = (0.7, 0.85, 1.0, 1.15, 1.3)  # x the predicted travel distance
+    cone_angles: int = 5  # directions sampled across the cone
+    min_search_radius: float = 0.25  # x box height: search radius around the prediction when barely moving
+    relocate_min_similarity: float = 0.3  # a candidate must correlate at least this well to be taken
+    max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
+    overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
+    max_missed_detections: int = 3  # detector frames in a row without a person on a clear dancer's box = lost
+    lost_search_heights: float = 3.0  # a lost dancer is searched among detections this many box heights away
+
+
+@dataclass
+class DancerTrack:
+    """State of one dancer in Algorithm 1*."""
+
+    dancer_id: int
+    tracker: LDESTracker
+    box: tuple[float, float, float, float]
+    status: str = TRACKED
+    stored_histogram: np.ndarray | None = None
+    stored_velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    stored_box: tuple[float, float, float, float] | None = None  # last box seen clear of others
+    stored_frame: int = 0  # frame of stored_box
+    occlusion_end: int = -1  # predicted frame where the overlap ends
+    occluded_since: int = -1
+    centers: list = field(default_factory=list)  # recent centres (px), newest last
+    missed: int = 0  # detector frames in a row in which no person was detected on this dancer's box
+    clear_track: list = field(default_factory=list)  # (frame, centre) of recent frames clear of others
+    confidence: float = 1.0
+
+    @property
+    def center(self) -> np.ndarray:
+        x, y, w, h = self.box
+        return np.array([x + w / 2, y + h / 2])
+
+
+@dataclass(frozen=True)
+class FrameResult:
+    """Boxes of all dancers in one frame."""
+
+    frame_index: int
+    boxes: np.ndarray  # (N, 4) float: x, y, w, h px
+    status: tuple[str, ...]  # per dancer: "tracked" or "occluded" (box predicted, not seen)
+    confidence: np.ndarray  # (N,) float in [0, 1]
+
+
+def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
+    na, nb = np.linalg.norm(a), np.linalg.norm(b)
+    if na < 1e-9 or nb < 1e-9:
+        return 0.0
+    return float(np.degrees(np.arccos(np.clip(np.dot(a, b) / (na * nb), -1.0, 1.0))))
+
+
+def _shift(box, d) -> tuple[float, float, float, float]:
+    return (box[0] + float(d[0]), box[1] + float(d[1]), box[2], box[3])
+
+
+class MultiDancerTracker:
+    """Track N dancers from their boxes in the first frame. Call :meth:`step` with each following frame."""
+
+    def __init__(self, frame: np.ndarray, boxes, config: MultiTrackerConfig | None = None):
+        self.config = config or MultiTrackerConfig()
+        self.frame_size = (frame.shape[1], frame.shape[0])
+        self.frame_index = 0
+        self.dancers: list[DancerTrack] = []
+        for b in boxes:
+            self.add_dancer(frame, b)
+
+    def add_dancer(self, frame: np.ndarray, box) -> int:
+        """Start tracking a dancer at ``box`` = (x, y, w, h) px in ``frame`` (the current frame); returns its id."""
+        b = tuple(float(v) for v in box)
+        tracker = LDESTracker(frame, b, self.config.ldes)
+        d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index)
+        d.stored_histogram = colour_histogram(frame, b)
+        d.centers.append(d.center)
+        self.dancers.append(d)
+        return d.dancer_id
+
+    def result(self) -> FrameResult:
+        if not self.dancers:
+            return FrameResult(self.frame_index, np.zeros((0, 4)), (), np.zeros(0))
+        return FrameResult(self.frame_index, np.array([d.box for d in self.dancers], float),
+                           tuple(d.status for d in self.dancers),
+                           np.array([d.confidence for d in self.dancers], float))
+
+    # ------------------------------------------------------------------ helpers
+    def _overlapping(self, i: int, boxes) -> list[int]:
+        return [j for j in range(len(boxes)) if j != i and box_overlap(boxes[i], boxes[j])
+                > self.config.overlap_threshold]
+
+    def _predicted_box(self, d: DancerTrack, frame_index: int):
+        return _shift(d.stored_box, d.stored_velocity * (frame_index - d.stored_frame))
+
+    def _predict_overlap_end(self, d: DancerTrack, others: list[DancerTrack], now: int) -> int:
+        """First frame after ``now`` at which ``d``'s predicted box overlaps none of ``others``' predicted boxes
+        (each moving on with its stored velocity)."""
+        c = self.config
+        for t in range(now + 1, now + c.max_occlusion_frames):
+            mine = self._predicted_box(d, t)
+            if all(box_overlap(mine, self._predicted_box(o, t) if o.status == OCCLUDED
+                               else _shift(o.box, o.stored_velocity * (t - now))) <= c.overlap_threshold
+                   for o in others):
+                return t + c.overlap_margin_frames
+        return now + c.max_occlusion_frames
+
+    def _cone_candidates(self, d: DancerTrack, detections) -> list[tuple[float, float, float, float]]:
+        """Patches of the stored box size along the stored motion direction, and detections in that cone."""
+        c = self.config
+        origin = np.array([d.stored_box[0] + d.stored_box[2] / 2, d.stored_box[1] + d.stored_box[3] / 2])
+        elapsed = self.frame_index - d.stored_frame
+        travel = d.stored_velocity * elapsed
+        dist = float(np.linalg.norm(travel))
+        w, h = d.stored_box[2], d.stored_box[3]
+        centres = []
+        if dist > c.min_search_radius * h:
+            heading = np.arctan2(travel[1], travel[0])
+            half = np.radians(c.cone_half_angle_deg)
+            for r in c.cone_radii:
+                for a in np.linspace(-half, half, c.cone_angles):
+                    centres.append(origin + r * dist * np.array([np.cos(heading + a), np.sin(heading + a)]))
+        else:  # barely moving: a disc around the prediction
+            rad = c.min_search_radius * h
+            centres.append(origin + travel)
+            for k in range(8):
+                a = 2 * np.pi * k / 8
+                for r in (0.5 * rad, rad):
+                    centres.append(origin + travel + r * np.array([np.cos(a), np.sin(a)]))
+        boxes = [(float(x - w / 2), float(y - h / 2), w, h) for x, y in centres]
+        for det in detections or []:
+            centre = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2])
+            off = centre - origin
+            if dist > c.min_search_radius * h:
+                inside = (_angle_between(off, travel) <= 2 * c.cone_half_angle_deg
+                          and 0.4 * dist <= np.linalg.norm(off) <= 1.8 * dist + 0.5 * w)
+            else:
+                inside = np.linalg.norm(off - travel) <= 2 * c.min_search_radius * h
+            if inside:
+                boxes.append(tuple(float(v) for v in det))
+        return boxes
+
+    # --------------------------------------------------------------------- step
+    def step(self, frame: np.ndarray, detections=None) -> FrameResult:
+        """Track all dancers into the next frame. ``detections``: optional person boxes (x, y, w, h) px in this
+        frame, used as extra relocation candidates."""
+        c = self.config
+        self.frame_index += 1
+        t = self.frame_index
+        prev_boxes = [d.box for d in self.dancers]
+        # 1. move tracked dancers; learn only those that were clear of the others
+        for i, d in enumerate(self.dancers):
+            if d.status != TRACKED:
+                continue
+            clear = not self._overlapping(i, prev_boxes)
+            state = d.tracker.update(frame, learn=clear)
+            d.box = state.box
+            d.confidence = float(np.clip(state.confidence / 20.0, 0, 1))
+            d.centers = (d.centers + [d.center])[-(c.motion_window + 1):]
+        boxes = [d.box for d in self.dancers]
+        # 2. memory update or failure test
+        for i, d in enumerate(self.dancers):
+            if d.status != TRACKED:
+                continue
+            overlapping = self._overlapping(i, [dd.box if dd.status == TRACKED else self._predicted_box(dd, t)
+                                                for dd in self.dancers])
+            if not overlapping and detections is not None:
+                confirmed = any(box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2 for det in detections)
+                d.missed = 0 if confirmed else d.missed + 1
+                if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
+                                                                                                  detections):
+                    continue
+            if not overlapping:
+                d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.center)]
+                d.stored_velocity = self._fit_velocity(d.clear_track)
+                hist = colour_histogram(frame, d.box) if d.missed == 0 else None
+                if hist is not None:
+                    d.stored_histogram = hist if d.stored_histogram is None else \
+                        (1 - c.histogram_smoothing) * d.stored_histogram + c.histogram_smoothing * hist
+                d.stored_box, d.stored_frame = d.box, t
+                continue
+            if self._failed(d, frame, overlapping, boxes):
+                d.status = OCCLUDED
+                d.occluded_since = t
+                d.occlusion_end = self._predict_overlap_end(d, [self.dancers[j] for j in overlapping], t)
+                d.box = self._predicted_box(d, t)
+                d.confidence = 0.0
+        # 3-4. occluded dancers: predict, then relocate from the predicted end of the overlap on
+        for d in self.dancers:
+            if d.status != OCCLUDED:
+                continue
+            # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
+            own = d.tracker.update(frame, learn=False).box
+            d.box = self._predicted_box(d, t)
+            others = [o.box for o in self.dancers if o is not d]
+            clear_now = any(all(box_overlap(b, o) <= c.overlap_threshold for o in others) for b in (d.box, own))
+            if t >= d.occlusion_end or clear_now:
+                self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames,
+                               extra=[own])
+        return self.result()
+
+    def _jump_to_detection(self, d: DancerTrack, frame, detections) -> bool:
+        """A dancer whose box has held no detected person for a while moves to a detected person nearby that
+        nobody else tracks, if that person's histogram matches the stored one clearly better than the box does
+        (the tracker drifted off, e.g. in a jump). Returns whether it moved."""
+        c = self.config
+        current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
+        others = [o.box for o in self.dancers if o is not d]
+        best, best_score = None, max(current + 0.1, c.relocate_min_similarity)
+        for det in detections:
+            if any(box_iou(det, o) > 0.3 for o in others):
+                continue
+            off = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2]) - d.center
+            if np.linalg.norm(off) > c.lost_search_heights * d.box[3]:
+                continue
+            score = histogram_similarity(colour_histogram(frame, det), d.stored_histogram)
+            if score > best_score:
+                best, best_score = tuple(float(v) for v in det), score
+        if best is None:
+            return False
+        d.tracker.init(frame, best)  # its filter learned whatever it drifted onto: start afresh
+        d.box, d.missed, d.confidence = best, 0, float(np.clip(best_score, 0, 1))
+        d.centers, d.clear_track = [d.center], []
+        d.stored_box, d.stored_frame = best, self.frame_index
+        return True
+
+    @staticmethod
+    def _fit_velocity(track) -> np.ndarray:
+        """Least-squares velocity (px/frame) through (frame, centre) samples; zero with fewer than 2."""
+        if len(track) < 2:
+            return np.zeros(2)
+        f = np.array([ft for ft, _ in track], float)
+        p = np.array([pt for _, pt in track], float)
+        f -= f.mean()
+        return (f[:, None] * (p - p.mean(axis=0))).sum(axis=0) / (f ** 2).sum()
+
+    def _failed(self, d: DancerTrack, frame, overlapping: list[int], boxes) -> bool:
+        c = self.config
+        stored_speed = float(np.linalg.norm(d.stored_velocity))
+        if len(d.centers) > c.motion_window:  # a full window since (re)start
+            steps = len(d.centers) - 1
+            motion = (d.centers[-1] - d.centers[0]) / steps
+            moved = float(np.linalg.norm(motion)) * steps
+            if stored_speed >= c.min_speed:
+                if moved >= c.min_motion_px and _angle_between(motion, d.stored_velocity) > c.failure_angle_deg:
+                    return True
+                expected = stored_speed * steps
+                if expected >= c.min_motion_px and (moved < 0.3 * expected or moved > 2.5 * expected + 2 * steps):
+                    return True
+            elif moved > c.min_motion_px + 0.05 * d.box[3]:
+                return True  # a still dancer that suddenly moves off with an overlapping one
+        if d.tracker.confidence < c.failure_psr:
+            return True
+        similarity = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
+        if similarity < c.failure_histogram:
+            return True
+        # two trackers on the same person: the one that matches its memory worse has failed
+        for j in overlapping:
+            o = self.dancers[j]
+            if o.status == TRACKED and box_iou(d.box, o.box) > 0.5:
+                other_similarity = histogram_similarity(colour_histogram(frame, o.box), o.stored_histogram)
+                if similarity < other_similarity:
+                    return True
+        return False
+
+    def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
+        c = self.config
+        candidates = self._cone_candidates(d, detections) + [tuple(b) for b in extra]
+        others = [o.box for o in self.dancers if o is not d and o.status == TRACKED]
+        best, best_score = None, -np.inf
+        for box in candidates:
+            if max((box_iou(box, o) for o in others), default=0.0) > 0.5:
+                continue  # that patch is another dancer's
+            score = histogram_similarity(colour_histogram(frame, box), d.stored_histogram)
+            if score > best_score:
+                best, best_score = box, score
+        if best is None or (best_score < c.relocate_min_similarity and not force):
+            return  # stay occluded; try again next frame
+        d.tracker.center = (best[0] + best[2] / 2, best[1] + best[3] / 2)
+        d.tracker.scale = best[2] / d.tracker.base_size[0]
+        d.box = best
+        d.status = TRACKED
+        d.missed = 0
+        d.confidence = float(np.clip(best_score, 0, 1))
+        d.centers = [d.center]
+        d.clear_track = []
+        d.stored_box, d.stored_frame = best, self.frame_index

@@ -1,0 +1,283 @@
+"""Video -> per-dancer tracks and 2D keypoints (Algorithms 1* and 2* together), streaming in constant memory.
+
+Outputs in ``out_dir``:
+
+- ``dancer_<i>.npz``: the 2D keypoint file of dancer i (BODY_25, :mod:`hdvr.io.keypoints2d` format), the input
+  of ``hdvr fit3d``;
+- ``tracks.mot.txt`` (MOT challenge text) and ``tracks.json``: boxes per frame and dancer;
+- ``overlay.mp4``: H.264 video with boxes, ids and skeletons (unless disabled).
+
+Frames are decoded, tracked, drawn and encoded one at a time; only small per-frame arrays (boxes and keypoints)
+are kept. If decoding or anything else stops the run early, the outputs for the frames done so far are written
+before the error is raised.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from hdvr.errors import HDVRError
+from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
+from hdvr.layouts import BODY25_NAMES
+from hdvr.pose2d.base import PoseDetector
+from hdvr.pose2d.draw import draw_overlay
+from hdvr.pose2d.selection import PoseSelector
+from hdvr.progress import progress
+from hdvr.tracking.appearance import box_iou
+from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
+from hdvr.tracking.multi import TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
+from hdvr.video import VideoReader, VideoWriter
+
+
+@dataclass
+class TrackRun:
+    """What a run produced (arrays cover the frames processed)."""
+
+    boxes: np.ndarray  # (T, N, 4) x, y, w, h px
+    status: list  # T tuples of N "tracked"/"occluded"
+    confidence: np.ndarray  # (T, N)
+    keypoints: np.ndarray  # (T, N, 25, 3) BODY_25 x_px, y_px, confidence
+    detected: np.ndarray  # (T,) bool: the detector ran on this frame
+    fps: float
+    size: tuple[int, int]
+    outputs: list[Path] = field(default_factory=list)
+    seconds: float = 0.0  # wall clock
+    cpu_seconds: float = 0.0  # CPU time of this process (all threads) during the run
+    stage_seconds: dict = field(default_factory=dict)  # decode, detect, track, select, overlay
+
+
+@dataclass(frozen=True)
+class DancerStart:
+    """Where tracking of a dancer begins: 0-based frame and (x, y, w, h) px box in it."""
+
+    frame: int
+    box: tuple[float, float, float, float]
+
+
+def find_dancers(video: str | os.PathLike, detector: PoseDetector, num_dancers: int, seconds: float = 3.0,
+                 every: int = 3, min_iou: float = 0.3) -> list[DancerStart]:
+    """The ``num_dancers`` people seen most often in the first ``seconds`` of ``video`` (detector on every
+    ``every``-th frame; detections linked frame to frame by box overlap), each with its first detection.
+    Ids are ordered by first appearance, then left to right."""
+    reader = VideoReader(video)
+    limit = max(1, int(round(seconds * reader.info.fps)))
+    tracks: list[dict] = []
+    for k, frame in enumerate(itertools.islice(reader, limit)):
+        if k % every:
+            continue
+        used = set()
+        for p in detector.detect(frame, k):
+            best, best_iou = None, min_iou
+            for ti, tr in enumerate(tracks):
+                if ti in used or k - tr["last_frame"] > 3 * every:
+                    continue
+                iou = box_iou(tr["box"], p.box)
+                if iou > best_iou:
+                    best, best_iou = ti, iou
+            if best is None:
+                tracks.append({"box": p.box, "last_frame": k, "count": 1, "score": p.score,
+                               "start": DancerStart(k, tuple(float(v) for v in p.box))})
+                used.add(len(tracks) - 1)
+            else:
+                tr = tracks[best]
+                tr.update(box=p.box, last_frame=k, count=tr["count"] + 1, score=tr["score"] + p.score)
+                used.add(best)
+    reader.close()
+    if not tracks:
+        raise HDVRError(f"no person found in the first {seconds:g} s of {video}; give the dancers' boxes with "
+                        f"--boxes")
+    tracks.sort(key=lambda tr: (-tr["count"], -tr["score"]))
+    chosen = tracks[:num_dancers]
+    if len(chosen) < num_dancers:
+        print(f"hdvr: warning: asked for {num_dancers} dancers, found {len(chosen)} people in the first "
+              f"{seconds:g} s", file=sys.stderr)
+    chosen.sort(key=lambda tr: (tr["start"].frame, tr["start"].box[0]))
+    return [tr["start"] for tr in chosen]
+
+
+def _pad(result: FrameResult, n: int) -> FrameResult:
+    """``result`` with rows for dancers not started yet (NaN box, status "absent")."""
+    k = len(result.status)
+    if k == n:
+        return result
+    boxes = np.full((n, 4), np.nan)
+    boxes[:k] = result.boxes
+    conf = np.zeros(n)
+    conf[:k] = result.confidence
+    return FrameResult(result.frame_index, boxes, tuple(result.status) + ("absent",) * (n - k), conf)
+
+
+def fill_between_detections(keypoints: np.ndarray, detected: np.ndarray, max_gap: int) -> np.ndarray:
+    """Keypoints (T, N, J, 3) of frames where the detector did not run: linear interpolation between the nearest
+    detector frames before and after (when both have the joint and are at most ``max_gap`` frames apart);
+    otherwise missing. Confidence is the smaller of the two."""
+    out = keypoints.copy()
+    det_idx = np.flatnonzero(detected)
+    if len(det_idx) < 2:
+        return out
+    for t in np.flatnonzero(~detected):
+        k = np.searchsorted(det_idx, t)
+        if k == 0 or k >= len(det_idx):
+            continue
+        a, b = det_idx[k - 1], det_idx[k]
+        if b - a > max_gap:
+            continue
+        w = (t - a) / (b - a)
+        ka, kb = keypoints[a], keypoints[b]
+        ok = (ka[..., 2] > 0) & (kb[..., 2] > 0)
+        out[t, ..., :2] = np.where(ok[..., None], (1 - w) * ka[..., :2] + w * kb[..., :2], np.nan)
+        out[t, ..., 2] = np.where(ok, np.minimum(ka[..., 2], kb[..., 2]), 0.0)
+    return out
+
+
+def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: PoseDetector | None = None,
+                boxes=None, num_dancers: int | None = None, detect_every: int = 1, overlay: bool = True,
+                max_frames: int | None = None, config: MultiTrackerConfig | None = None,
+                init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None) -> TrackRun:
+    """Track the dancers of ``video`` and estimate their 2D poses; write the outputs to ``out_dir``.
+
+    ``boxes``: initial (x, y, w, h) px boxes in the first frame, or None to find ``num_dancers`` people with the
+    detector in the first ``init_seconds`` of the video (each starts where it is first seen); ``starts`` gives the
+    start frames and boxes directly instead. ``detect_every``: run the detector on every k-th frame only
+    (keypoints in between are interpolated). ``detector`` None: boxes only, no keypoints.
+    """
+    started = time.perf_counter()
+    cpu_started = time.process_time()
+    if detect_every < 1:
+        raise HDVRError(f"--detect-every must be >= 1, got {detect_every}")
+    reader = VideoReader(video)
+    info = reader.info
+    if starts is not None:
+        pass
+    elif boxes is None:
+        if detector is None:
+            raise HDVRError("give the dancers' boxes (--boxes) or a detector to find them (--dancers N)")
+        if not num_dancers or num_dancers < 1:
+            raise HDVRError("give --boxes or --dancers N (N >= 1)")
+        if max_frames:
+            init_seconds = min(init_seconds, max_frames / info.fps)
+        starts = find_dancers(video, detector, num_dancers, seconds=init_seconds)
+    else:
+        starts = [DancerStart(0, tuple(float(v) for v in b)) for b in boxes]
+    check_boxes_in_frame([s.box for s in starts], info.size)
+    boxes = [s.box for s in starts]
+    if not boxes:
+        raise HDVRError("no dancer to track")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    n = len(boxes)
+    selector = PoseSelector(n)
+    writer = VideoWriter(out / "overlay.mp4", info.fps, info.size) if (overlay and write) else None
+    all_boxes, all_status, all_conf, all_kp, detected = [], [], [], [], []
+    stage = dict.fromkeys(("decode", "detect", "track", "select", "overlay"), 0.0)
+    last_kp = np.full((n, 25, 3), np.nan, np.float32)
+    last_kp[..., 2] = 0
+    last_kp_boxes = np.array(boxes, float)
+    tracker = None
+    failure: BaseException | None = None
+    total = min(info.num_frames or 0, max_frames or 10 ** 12) or None
+    frames = iter(reader)
+    bar = progress(total=total, desc="track", unit="frame")
+    try:
+        t = 0
+        tic = time.perf_counter()
+        for frame in frames:
+            stage["decode"] += time.perf_counter() - tic
+            run_detector = detector is not None and t % detect_every == 0
+            people = []
+            if run_detector:
+                tic = time.perf_counter()
+                people = detector.detect(frame, t)
+                stage["detect"] += time.perf_counter() - tic
+            tic = time.perf_counter()
+            if tracker is None:
+                tracker = MultiDancerTracker(frame, [], config)
+            else:
+                tracker.step(frame, detections=[p.box for p in people] if run_detector else None)
+            for s in starts:
+                if s.frame == t:
+                    tracker.add_dancer(frame, s.box)
+            result = _pad(tracker.result(), n)
+            stage["track"] += time.perf_counter() - tic
+            kp = np.full((n, 25, 3), np.nan, np.float32)
+            kp[..., 2] = 0
+            if run_detector:
+                tic = time.perf_counter()
+                for i, pose in enumerate(selector.select(frame, result.boxes, people)):
+                    if pose is not None:
+                        kp[i] = pose.body25()
+                last_kp, last_kp_boxes = kp, result.boxes.copy()
+                stage["select"] += time.perf_counter() - tic
+            if writer is not None:
+                tic = time.perf_counter()
+                if run_detector:
+                    shown = kp
+                else:  # the last detected skeleton, moved with its box
+                    shift = (result.boxes[:, :2] + result.boxes[:, 2:] / 2) - \
+                        (last_kp_boxes[:, :2] + last_kp_boxes[:, 2:] / 2)
+                    shown = last_kp.copy()
+                    shown[..., :2] += np.nan_to_num(shift)[:, None, :]
+                writer.write(draw_overlay(frame, result.boxes, result.status, shown))
+                stage["overlay"] += time.perf_counter() - tic
+            all_boxes.append(result.boxes)
+            all_status.append(result.status)
+            all_conf.append(result.confidence)
+            all_kp.append(kp)
+            detected.append(run_detector)
+            t += 1
+            bar.update(1)
+            if max_frames and t >= max_frames:
+                break
+            tic = time.perf_counter()
+    except (HDVRError, KeyboardInterrupt) as exc:
+        failure = exc
+    finally:
+        bar.close()
+    if not all_boxes:
+        if writer is not None:
+            writer.abort()
+        if failure is not None:
+            raise failure
+        raise HDVRError(f"video {video} has no decodable frame")
+    run = TrackRun(np.array(all_boxes, float), all_status, np.array(all_conf, float), np.array(all_kp, np.float32),
+                   np.array(detected, bool), info.fps, info.size)
+    run.keypoints = fill_between_detections(run.keypoints, run.detected, detect_every)
+    if writer is not None:
+        writer.close()  # keeps the frames finished so far
+        run.outputs.append(writer.path)
+    if write:
+        run.outputs += write_outputs(out, run, extra={"source": str(video), "detect_every": detect_every,
+                                                      "detector": getattr(detector, "name", None)})
+    run.seconds = time.perf_counter() - started
+    run.cpu_seconds = time.process_time() - cpu_started
+    run.stage_seconds = stage
+    if failure is not None:
+        raise failure
+    if reader.error:
+        raise HDVRError(f"{reader.error}; outputs for the {len(all_boxes)} frames decoded were written to {out}")
+    return run
+
+
+def write_outputs(out: Path, run: TrackRun, extra: dict | None = None) -> list[Path]:
+    """Write the per-dancer keypoint NPZ files, MOT text and JSON tracks (all atomically)."""
+    paths = []
+    for i in range(run.boxes.shape[1]):
+        path = out / f"dancer_{i}.npz"
+        save_keypoints2d(path, Keypoints2D(run.keypoints[:, i], BODY25_NAMES, run.fps, run.size))
+        paths.append(path)
+    write_mot(out / "tracks.mot.txt", run.boxes, run.confidence)
+    write_tracks_json(out / "tracks.json", run.boxes, run.status, run.fps, run.size, run.confidence, extra)
+    paths += [out / "tracks.mot.txt", out / "tracks.json"]
+    return paths
+
+
+def tracked_fraction(run: TrackRun) -> np.ndarray:
+    """(N,) fraction of frames in which each dancer was seen (not predicted through an occlusion)."""
+    return np.array([[s[i] == TRACKED for s in run.status] for i in range(run.boxes.shape[1])]).mean(axis=1)

@@ -1,0 +1,244 @@
+#!/usr/bin/env python3
+"""Benchmark of ``hdvr track``: speed, what a cheaper detector setting costs in accuracy, memory vs video length.
+
+Runs on this machine's CPU with the detector limited to 2 threads (the target machine has 2 cores). Writes a
+markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown PATH``, to that file.
+
+1. Speed: a procedural 640x480 clip with 2 dancers that cross (hdvr.tracking.testclips), full ``track_video``
+   (decode, detector, Algorithm 1* and 2*, overlay H.264 encode, outputs), median frames/s over ``--repeats`` runs
+   for each detector setting (input size, every k-th frame). Load average is printed: other processes on the
+   machine slow every wall-clock figure down. Frames per CPU second (this process's CPU time, all threads) is
+   also given: it hardly depends on other load, and on an otherwise idle machine the wall-clock rate is at
+   least that high (the detector's 2 threads overlap).
+2. Accuracy: per setting, MOTA/IDF1/HOTA/ID switches of the tracks against the clip's ground truth (trackeval),
+   and PCK@0.2 of the 2D keypoints against the reference setting (640 px input on every frame) on the real video
+   ../shared/data/video/two-people-tree (scaled to 640 px wide), dancers found automatically once.
+3. Memory: peak resident memory of ``hdvr track`` (own process) on a short and a 4x longer clip.
+4. Detector alone: PCK@0.2 of each input size's poses against the 640 px poses on the same frames of the real
+   video (poses matched by box overlap; a reference pose without a match counts as all wrong), separating the
+   cost of the smaller input from that of tracking and interpolation.
+
+Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--sections speed,real,memory,detector]
+                                      [--markdown docs/benchmarks.md]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO))
+os.environ.setdefault("HDVR_NO_PROGRESS", "1")
+
+import cv2  # noqa: E402
+import numpy as np  # noqa: E402
+
+from hdvr.pose2d.models import default_pose_model  # noqa: E402
+from hdvr.pose2d.onnx_pose import OnnxPoseDetector  # noqa: E402
+from hdvr.tracking.evaluation import evaluate_tracking, pck  # noqa: E402
+from hdvr.tracking.pipeline import find_dancers, track_video  # noqa: E402
+from hdvr.tracking.testclips import default_crossing_specs, render_clip  # noqa: E402
+from hdvr.video import VideoReader, VideoWriter  # noqa: E402
+
+SETTINGS = [(640, 1), (320, 1), (320, 2), (320, 3), (256, 2)]  # (detector input px, detector every k frames)
+REAL_VIDEO = REPO.parent / "shared" / "data" / "video" / "two-people-tree" / "video.mp4"
+
+
+def cpu_name() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def scaled_copy(src: Path, dst: Path, width: int = 640) -> None:
+    reader = VideoReader(src)
+    w, h = reader.info.size
+    size = (width, int(round(h * width / w / 2)) * 2)
+    with VideoWriter(dst, reader.info.fps, size, crf=18) as writer:
+        for frame in reader:
+            writer.write(cv2.resize(frame, size, interpolation=cv2.INTER_AREA))
+
+
+def peak_rss_mb(video: Path, out: Path, boxes: str) -> float:
+    code = ("import resource, sys; from hdvr.cli import main; "
+            f"rc = main(['track', {str(video)!r}, '--out', {str(out)!r}, '--boxes', {boxes!r}, "
+            "'--detect-every', '2', '--threads', '2']); "
+            "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)")
+    proc = subprocess.run([sys.executable, "-c", code], cwd=REPO, capture_output=True, text=True,
+                          env=dict(os.environ, PYTHONPATH=str(REPO), HDVR_NO_PROGRESS="1"), check=True)
+    return float(proc.stdout.strip().splitlines()[-1])
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--frames", type=int, default=300, help="length of the procedural clip")
+    parser.add_argument("--quick", action="store_true", help="1 repeat, 150 frames, no memory test")
+    parser.add_argument("--markdown", type=Path, help="also write the markdown section to this file")
+    parser.add_argument("--settings", help="detector settings SIZExEVERY, comma-separated (default "
+                        + ",".join(f"{a}x{b}" for a, b in SETTINGS) + "); the first is the reference")
+    parser.add_argument("--sections", default="speed,real,memory,detector",
+                        help="comma-separated subset of speed, real, memory, detector")
+    args = parser.parse_args()
+    if args.quick:
+        args.repeats, args.frames = 1, 150
+    sections = set(args.sections.split(","))
+    if args.settings:
+        SETTINGS[:] = [tuple(int(v) for v in item.split("x")) for item in args.settings.split(",")]
+    model = default_pose_model()
+    tmp = Path(tempfile.mkdtemp(prefix="hdvr-bench-"))
+    clip = tmp / "crossing.mp4"
+    truth = render_clip(clip, frames=args.frames, specs=default_crossing_specs(num_figures=2, seed=0))
+    boxes = truth.boxes[0]
+    load_before = os.getloadavg()
+    lines = ["## Tracking and 2D pose", "",
+             f"Measured by `python3 scripts/bench_track.py{' --quick' if args.quick else ''}` on {cpu_name()}, "
+             f"{os.cpu_count()} cores visible, detector (onnxruntime) limited to 2 threads; load average "
+             f"{load_before[0]:.1f} at the start (other processes share the machine: figures are lower bounds). "
+             f"Python {platform.python_version()}.", ""]
+
+    # 1-2: speed and tracking accuracy on the procedural clip
+    speed = {}
+    if "speed" in sections:
+        lines += speed_section(args, clip, truth, boxes, model, tmp, speed)
+    if "real" in sections and REAL_VIDEO.is_file():
+        lines += real_section(model, tmp)
+    if "memory" in sections and not args.quick:
+        lines += memory_section(args, clip, boxes, tmp)
+    if "detector" in sections and REAL_VIDEO.is_file():
+        lines += detector_section(model)
+    load_after = os.getloadavg()
+    lines.append(f"Load average at the end: {load_after[0]:.1f}.")
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if args.markdown:
+        args.markdown.parent.mkdir(parents=True, exist_ok=True)
+        args.markdown.write_text(text)
+    (tmp / "summary.json").write_text(json.dumps({f"{k[0]}-{k[1]}": v for k, v in speed.items()}))
+    return 0
+
+
+def speed_section(args, clip, truth, boxes, model, tmp, speed) -> list[str]:
+    """Frames/s per detector setting on the procedural clip, and the tracks' scores against its ground truth."""
+    lines = [f"### Speed: 640x480, 2 dancers, {args.frames} frames (procedural crossing clip), overlay included", "",
+             "| detector input | detector every | frames/s wall (median) | frames per CPU second (median) | "
+             "wall ms/frame decode / detect / track / select / overlay | MOTA | IDF1 | HOTA | ID switches |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for size, every in SETTINGS:
+        detector = OnnxPoseDetector(model, input_size=size, threads=2)
+        fps, cpu_fps, stages, run = [], [], None, None
+        for _ in range(args.repeats):
+            run = track_video(clip, tmp / f"out-{size}-{every}", detector=detector, boxes=boxes,
+                              detect_every=every)
+            n = run.boxes.shape[0]
+            fps.append(n / run.seconds)
+            cpu_fps.append(n / run.cpu_seconds)
+            stages = {k: 1000 * v / n for k, v in run.stage_seconds.items()}
+        scores = evaluate_tracking(truth.boxes, run.boxes)
+        speed[(size, every)] = statistics.median(fps)
+        stage_text = " / ".join(f"{stages[k]:.1f}" for k in ("decode", "detect", "track", "select", "overlay"))
+        lines.append(f"| {size} px | {every} | {statistics.median(fps):.1f} | {statistics.median(cpu_fps):.1f} | "
+                     f"{stage_text} | {scores.mota:.3f} | "
+                     f"{scores.idf1:.3f} | {scores.hota:.3f} | {scores.id_switches} |")
+        print(lines[-1], file=sys.stderr)
+    lines.append("")
+    return lines
+
+
+def real_section(model, tmp) -> list[str]:
+    """Keypoint accuracy of cheaper settings against the reference, on the real video."""
+    lines = []
+    real = tmp / "two-people-640.mp4"
+    scaled_copy(REAL_VIDEO, real)
+    reference_detector = OnnxPoseDetector(model, input_size=640, threads=2)
+    starts = find_dancers(real, reference_detector, 2)
+    runs = {}
+    for size, every in SETTINGS:
+        detector = reference_detector if size == 640 else OnnxPoseDetector(model, input_size=size, threads=2)
+        runs[(size, every)] = track_video(real, tmp / f"real-{size}-{every}", detector=detector, starts=starts,
+                                          detect_every=every, overlay=False)
+    ref = runs[SETTINGS[0]]
+    lines += ["### Keypoint accuracy of cheaper settings (real video two-people-tree scaled to 640x360)", "",
+              "PCK@0.2 (torso) of each dancer's keypoints against the reference setting (640 px input, every "
+              "frame), over the frames where the reference has the joint; frames/s as measured on this clip.", "",
+              "| detector input | detector every | PCK@0.2 vs reference | frames/s wall | frames per CPU second |",
+              "|---|---|---|---|---|"]
+    for key, run in runs.items():
+        n = run.boxes.shape[0]
+        scores = [pck(run.keypoints[:, i], ref.keypoints[:, i]) for i in range(ref.keypoints.shape[1])]
+        scores = [s for s in scores if np.isfinite(s)]
+        lines.append(f"| {key[0]} px | {key[1]} | {np.mean(scores):.3f} | {n / run.seconds:.1f} | "
+                     f"{n / run.cpu_seconds:.1f} |")
+        print(lines[-1], file=sys.stderr)
+    lines.append("")
+    return lines
+
+
+def memory_section(args, clip, boxes, tmp) -> list[str]:
+    """Peak memory for a short and a 4x longer clip."""
+    lines = []
+    long_clip = tmp / "long.mp4"
+    render_clip(long_clip, frames=4 * args.frames, specs=default_crossing_specs(num_figures=2, seed=0))
+    box_arg = ";".join(",".join(f"{v:g}" for v in b) for b in boxes)
+    short_mb = peak_rss_mb(clip, tmp / "mem-short", box_arg)
+    long_mb = peak_rss_mb(long_clip, tmp / "mem-long", box_arg)
+    lines += ["### Memory", "",
+              f"Peak resident memory of `hdvr track` (detector 320 px every 2nd frame, overlay on): "
+              f"{short_mb:.0f} MB for {args.frames} frames, {long_mb:.0f} MB for {4 * args.frames} frames.", ""]
+    print(lines[-2], file=sys.stderr)
+    return lines
+
+
+def detector_section(model, every: int = 3, sizes=(480, 320, 256)) -> list[str]:
+    """PCK@0.2 of smaller detector inputs against 640 px on the same frames (real video, every 3rd frame)."""
+    from scipy.optimize import linear_sum_assignment
+
+    from hdvr.tracking.appearance import box_iou
+
+    reference = OnnxPoseDetector(model, input_size=640, threads=2)
+    others = {size: OnnxPoseDetector(model, input_size=size, threads=2) for size in sizes}
+    correct = {size: [] for size in sizes}
+    for t, frame in enumerate(VideoReader(REAL_VIDEO)):
+        if t % every:
+            continue
+        ref = reference.detect(frame)
+        for size, det in others.items():
+            got = det.detect(frame)
+            iou = np.array([[box_iou(r.box, g.box) for g in got] for r in ref]).reshape(len(ref), len(got))
+            match = {}
+            if iou.size:
+                for r, g in zip(*linear_sum_assignment(-iou)):
+                    if iou[r, g] >= 0.3:
+                        match[r] = g
+            for r, pose in enumerate(ref):
+                truth = pose.body25()[None]
+                pred = got[match[r]].body25()[None] if r in match else np.full_like(truth, np.nan)
+                score = pck(pred, truth)
+                if np.isfinite(score):
+                    correct[size].append(score)
+    lines = ["### Detector input size alone (real video two-people-tree, 1768x994, every 3rd frame)", "",
+             "PCK@0.2 of the poses found at a smaller input against those at 640 px on the same frames (matched by "
+             "box overlap; a 640 px pose without a match counts as all wrong).", "",
+             "| detector input | PCK@0.2 vs 640 px |", "|---|---|"]
+    for size in sizes:
+        lines.append(f"| {size} px | {np.mean(correct[size]):.3f} |")
+        print(lines[-1], file=sys.stderr)
+    lines.append("")
+    return lines
+
+
+if __name__ == "__main__":
+    sys.exit(main())

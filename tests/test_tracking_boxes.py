@@ -1,0 +1,48 @@
+import json
+
+import numpy as np
+import pytest
+
+from hdvr.errors import HDVRError
+from hdvr.tracking.boxes import (check_boxes_in_frame, parse_boxes, read_boxes_file, read_mot, write_mot,
+                                 write_tracks_json)
+
+
+def test_parse_boxes():
+    assert parse_boxes("1,2,3,4; 5,6,7,8") == [(1, 2, 3, 4), (5, 6, 7, 8)]
+    for bad in ("1,2,3", "a,b,c,d", "1,2,0,4", ""):
+        with pytest.raises(HDVRError):
+            parse_boxes(bad)
+
+
+def test_box_files(tmp_path):
+    (tmp_path / "b.json").write_text(json.dumps({"boxes": [[1, 2, 3, 4], [5, 6, 7, 8]]}))
+    assert read_boxes_file(tmp_path / "b.json") == [(1, 2, 3, 4), (5, 6, 7, 8)]
+    (tmp_path / "b.txt").write_text("10,20,30,40\n50,60,70,80\n")
+    assert read_boxes_file(tmp_path / "b.txt")[1] == (50, 60, 70, 80)
+    with pytest.raises(HDVRError, match="not found"):
+        read_boxes_file(tmp_path / "none.json")
+
+
+def test_mot_round_trip_and_first_frame_boxes(tmp_path):
+    tracks = np.array([[[1, 2, 3, 4], [np.nan] * 4], [[2, 3, 4, 5], [9, 9, 9, 9]]], float)
+    write_mot(tmp_path / "t.txt", tracks)
+    lines = (tmp_path / "t.txt").read_text().splitlines()
+    assert lines[0].startswith("1,1,1.00,2.00,3.00,4.00")
+    back = read_mot(tmp_path / "t.txt")
+    np.testing.assert_allclose(back, tracks)
+    assert read_boxes_file(tmp_path / "t.txt") == [(1, 2, 3, 4)]
+
+
+def test_tracks_json(tmp_path):
+    tracks = np.array([[[1, 2, 3, 4]], [[np.nan] * 4]], float)
+    write_tracks_json(tmp_path / "t.json", tracks, [("tracked",), ("absent",)], 30.0, (64, 48))
+    doc = json.loads((tmp_path / "t.json").read_text())
+    assert doc["dancers"][0]["boxes"] == [[1, 2, 3, 4], None]
+    assert doc["image_size"] == [64, 48]
+
+
+def test_boxes_outside_frame():
+    check_boxes_in_frame([(0, 0, 10, 10)], (100, 100))
+    with pytest.raises(HDVRError, match="outside"):
+        check_boxes_in_frame([(95, 95, 10, 10)], (100, 100))

@@ -1,0 +1,59 @@
+import numpy as np
+import pytest
+
+from hdvr.errors import HDVRError
+from hdvr.tracking.evaluation import evaluate_tracking, pck, torso_diameter
+
+
+def _gt(frames=20):
+    t = np.arange(frames)[:, None]
+    a = np.hstack([10 + 5 * t, np.full_like(t, 50), np.full_like(t, 40), np.full_like(t, 100)])
+    b = np.hstack([200 - 5 * t, np.full_like(t, 300), np.full_like(t, 40), np.full_like(t, 100)])
+    return np.stack([a, b], axis=1).astype(float)
+
+
+def test_perfect_tracks():
+    gt = _gt()
+    s = evaluate_tracking(gt, gt.copy())
+    assert s.mota == pytest.approx(1.0) and s.idf1 == pytest.approx(1.0) and s.hota == pytest.approx(1.0)
+    assert s.id_switches == 0
+
+
+def test_identity_swap_counts():
+    gt = _gt()
+    swapped = gt.copy()
+    swapped[10:] = swapped[10:, ::-1]
+    s = evaluate_tracking(gt, swapped)
+    assert s.id_switches == 2
+    assert s.idf1 == pytest.approx(0.5)
+    assert s.hota < 0.8
+
+
+def test_missing_boxes_lower_recall():
+    gt = _gt()
+    pred = gt.copy()
+    pred[:5, 0] = np.nan
+    s = evaluate_tracking(gt, pred)
+    assert s.recall == pytest.approx(35 / 40)
+    assert s.precision == pytest.approx(1.0)
+
+
+def test_shape_mismatch():
+    with pytest.raises(HDVRError):
+        evaluate_tracking(_gt(10), _gt(12))
+
+
+def test_pck():
+    rng = np.random.default_rng(0)
+    truth = rng.uniform(100, 300, (10, 25, 3))
+    truth[..., 2] = 1
+    ref = torso_diameter(truth)
+    pred = truth.copy()
+    assert pck(pred, truth) == 1.0
+    pred[:, 0, :2] += (0.3 * ref)[:, None]  # nose off by 0.42 x torso: wrong
+    assert pck(pred, truth) == pytest.approx(24 / 25)
+    pred[:, 1, 2] = 0  # a joint the prediction misses counts as wrong
+    assert pck(pred, truth) == pytest.approx(23 / 25)
+    truth2 = truth.copy()
+    truth2[:, 1, :] = np.nan  # a joint the truth lacks does not count
+    assert pck(pred, truth2) == pytest.approx(23 / 24)

