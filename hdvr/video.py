@@ -12,6 +12,8 @@ so an interrupted run never leaves a half-written video under the target name.
 from __future__ import annotations
 
 import os
+import queue
+import threading
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -143,15 +145,16 @@ def probe_video(path: str | os.PathLike) -> VideoInfo:
 
 
 class VideoWriter:
-    """Write BGR uint8 frames to an H.264 MP4 (PyAV, libx264, yuv420p), atomically.
+    """Write uint8 frames (BGR by default, ``pixel_format="rgb24"`` for RGB) to an H.264 MP4, atomically.
 
     ``size`` is (width, height) in pixels; odd sizes are padded with one black row/column (yuv420p needs
-    even sizes). ``crf`` is x264's constant quality (lower = better, 23 = default). Use as a context
-    manager: the file appears under ``path`` only when the writer closes without an exception.
+    even sizes). ``crf`` is x264's constant quality (lower = better, 23 = default). ``background=True`` encodes in
+    a worker thread (frames are queued), so that rendering and encoding overlap. Use as a context manager: the
+    file appears under ``path`` only when the writer closes without an exception.
     """
 
     def __init__(self, path: str | os.PathLike, fps: float, size: tuple[int, int], crf: int = 23,
-                 preset: str = "superfast"):
+                 preset: str = "superfast", pixel_format: str = "bgr24", background: bool = False):
         import av
 
         self.path = Path(path)
@@ -168,21 +171,54 @@ class VideoWriter:
         self._stream.pix_fmt = "yuv420p"
         self._stream.options = {"crf": str(crf), "preset": preset}
         self._stream.thread_type = "AUTO"
+        self.pixel_format = pixel_format
         self.frames_written = 0
         self._closed = False
+        self._queue: queue.Queue | None = None
+        self._error: BaseException | None = None
+        if background:
+            self._queue = queue.Queue(maxsize=16)
+            self._thread = threading.Thread(target=self._encode_queued, daemon=True)
+            self._thread.start()
 
-    def write(self, frame_bgr: np.ndarray) -> None:
+    def _encode(self, frame: np.ndarray | None) -> None:
         import av
 
+        packets = self._stream.encode(None if frame is None else
+                                      av.VideoFrame.from_ndarray(frame, format=self.pixel_format))
+        for packet in packets:
+            self._container.mux(packet)
+
+    def _encode_queued(self) -> None:
+        try:
+            while (frame := self._queue.get()) is not None:
+                self._encode(frame)
+        except BaseException as exc:  # reported by write() / close()
+            self._error = exc
+            while self._queue.get() is not None:  # drain so that the producer never blocks
+                pass
+
+    def _stop_worker(self) -> None:
+        if self._queue is not None:
+            self._queue.put(None)
+            self._thread.join()
+            self._queue = None
+
+    def write(self, frame_bgr: np.ndarray) -> None:
+        """Append one (H, W, 3) uint8 frame in the writer's ``pixel_format`` (BGR by default)."""
         h, w = frame_bgr.shape[:2]
         if (w, h) != self.size:
             raise HDVRError(f"frame size {w}x{h} differs from the video size {self.size[0]}x{self.size[1]}")
         if self._padded != self.size:
             frame_bgr = cv2.copyMakeBorder(frame_bgr, 0, self._padded[1] - h, 0, self._padded[0] - w,
                                            cv2.BORDER_CONSTANT)
-        frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame_bgr), format="bgr24")
-        for packet in self._stream.encode(frame):
-            self._container.mux(packet)
+        if self._error is not None:
+            raise HDVRError(f"video encoding failed: {self._error}")
+        frame = np.ascontiguousarray(frame_bgr)
+        if self._queue is not None:
+            self._queue.put(frame.copy())
+        else:
+            self._encode(frame)
         self.frames_written += 1
 
     def close(self) -> None:
@@ -190,8 +226,12 @@ class VideoWriter:
         if self._closed:
             return
         self._closed = True
-        for packet in self._stream.encode(None):
-            self._container.mux(packet)
+        self._stop_worker()
+        if self._error is not None:
+            self._container.close()
+            self._tmp.unlink(missing_ok=True)
+            raise HDVRError(f"video encoding failed: {self._error}")
+        self._encode(None)
         self._container.close()
         os.replace(self._tmp, self.path)
 
@@ -201,6 +241,7 @@ class VideoWriter:
             return
         self._closed = True
         try:
+            self._stop_worker()
             self._container.close()
         finally:
             self._tmp.unlink(missing_ok=True)

@@ -28,15 +28,12 @@ from __future__ import annotations
 
 import json
 import os
-import queue
-import threading
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from hdvr.errors import HDVRError
 from hdvr.io.atomic import atomic_path, write_text_atomic
 from hdvr.io.keypoints2d import Keypoints2D
 from hdvr.layouts import BODY25_NAMES
@@ -45,6 +42,7 @@ from hdvr.movements.taxonomy import load_taxonomy
 from hdvr.skeleton import Skeleton
 from hdvr.synth.choreography import ChoreographyGenerator, foot_metrics
 from hdvr.synth.genres import GENRES, genre_style
+from hdvr.video import VideoWriter
 
 GT_KEYS = ("qpos", "keypoints3d_world", "keypoints3d_camera", "keypoints2d", "visibility", "boxes", "track_ids",
            "labels", "camera_rotation", "camera_centre", "focal", "principal_point", "image_size", "fps",
@@ -81,56 +79,6 @@ def clip_spec(index: int, seed: int, genres: tuple[str, ...], dancers: tuple[int
     if genre_style(genre).couple and n % 2 == 1:
         n = n + 1 if n + 1 <= hi else (n - 1 if n - 1 >= max(lo, 2) else n)
     return ClipSpec(index, seed, genre, n, float(seconds), fps, tuple(size))
-
-
-class _VideoWriter:
-    """H.264 mp4 through PyAV, encoding in a background thread (frames are queued)."""
-
-    def __init__(self, path: Path, fps: float, size):
-        import av
-
-        self._ctx = atomic_path(path, suffix=".mp4")
-        self._tmp = self._ctx.__enter__()
-        self.container = av.open(str(self._tmp), mode="w")
-        self.stream = self.container.add_stream("libx264", rate=int(round(fps)))
-        self.stream.width, self.stream.height = size
-        self.stream.pix_fmt = "yuv420p"
-        self.stream.options = {"crf": "23", "preset": "ultrafast"}
-        self.queue: queue.Queue = queue.Queue(maxsize=16)
-        self.error: BaseException | None = None
-        self.thread = threading.Thread(target=self._run, daemon=True)
-        self.thread.start()
-
-    def _run(self):
-        import av
-
-        try:
-            while True:
-                frame = self.queue.get()
-                if frame is None:
-                    break
-                for packet in self.stream.encode(av.VideoFrame.from_ndarray(frame, format="rgb24")):
-                    self.container.mux(packet)
-            for packet in self.stream.encode():
-                self.container.mux(packet)
-        except BaseException as exc:  # reported in close()
-            self.error = exc
-
-    def write(self, frame: np.ndarray):
-        if self.error is not None:
-            raise HDVRError(f"video encoding failed: {self.error}")
-        self.queue.put(frame)
-
-    def close(self, ok: bool = True):
-        self.queue.put(None)
-        self.thread.join()
-        self.container.close()
-        if ok and self.error is None:
-            self._ctx.__exit__(None, None, None)
-        else:
-            self._ctx.__exit__(HDVRError, HDVRError("aborted"), None)
-            if self.error is not None:
-                raise HDVRError(f"video encoding failed: {self.error}")
 
 
 def generate_motion(spec: ClipSpec):
@@ -208,7 +156,8 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
 
         model = mujoco.MjModel.from_xml_string(build_scene_xml(list(heights), looks, stage, spec.size))
         renderer = SceneRenderer(model, n, spec.size)
-        writer = _VideoWriter(folder / "video.mp4", spec.fps, spec.size)
+        writer = VideoWriter(folder / "video.mp4", spec.fps, spec.size, preset="ultrafast", pixel_format="rgb24",
+                             background=True)
         qpos_scene = np.concatenate([d.qpos for d in dancers], axis=1)
         ok = False
         t0 = time.perf_counter()
@@ -228,7 +177,7 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
                                                                 k, intr, spec.size)
             ok = True
         finally:
-            writer.close(ok)
+            writer.close() if ok else writer.abort()
             renderer.close()
         render_seconds = time.perf_counter() - t0
         render_cpu_seconds = time.process_time() - cpu0
