@@ -165,15 +165,63 @@ class _BoneProblem:
         return jac
 
 
+#: Bone -> (keypoint pairs whose distance measures it, factor): shoulder and hip are half-widths.
+_BONE_PAIRS: dict[int, tuple[tuple[tuple[str, str], ...], float]] = {
+    0: ((("neck", "mid_hip"),), 1.0),
+    2: ((("right_shoulder", "left_shoulder"),), 0.5),
+    3: ((("right_shoulder", "right_elbow"), ("left_shoulder", "left_elbow")), 1.0),
+    4: ((("right_elbow", "right_wrist"), ("left_elbow", "left_wrist")), 1.0),
+    5: ((("right_hip", "left_hip"),), 0.5),
+    6: ((("right_hip", "right_knee"), ("left_hip", "left_knee")), 1.0),
+    7: ((("right_knee", "right_ankle"), ("left_knee", "left_ankle")), 1.0),
+}
+
+
+def bones_from_projections(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, keypoints_cam: np.ndarray,
+                           focal: float, height_m: float, percentile: float = 95.0) -> np.ndarray:
+    """Bone lengths (9,) metres from the longest image projections of each bone over a tracked clip.
+
+    A segment's image length, lifted to metres at its tracked depth (``|p_a - p_b| * (Z_a + Z_b) / (2 f)``), equals
+    its 3D length when it lies parallel to the image and is shorter otherwise; over a dance clip each limb passes
+    through that orientation, so the ``percentile`` of the lifted lengths (pooled over both sides) estimates it
+    without the depth ambiguity that lets a least-squares fit lengthen limbs. Head and toe keep the stature-scaled
+    table values; finally all bones are scaled so that the model's eye height is 0.936 x the stature.
+    """
+    bones = stature_scaled_bones(kin, height_m)
+    for bone, (pairs, factor) in _BONE_PAIRS.items():
+        samples = []
+        for a, b in pairs:
+            ia, ib = BODY25_NAMES.index(a), BODY25_NAMES.index(b)
+            ok = (weights[:, ia] > 0) & (weights[:, ib] > 0)
+            if not ok.any():
+                continue
+            px = np.linalg.norm(obs[ok, ia] - obs[ok, ib], axis=-1)
+            depth = 0.5 * (keypoints_cam[ok, ia, 2] + keypoints_cam[ok, ib, 2])
+            samples.append(px * depth / focal)
+        if samples and sum(len(x) for x in samples) >= 10:
+            bones[bone] = factor * float(np.percentile(np.concatenate(samples), percentile))
+    lo = 0.3 * dh.BONE_RATIO_MEAN * height_m
+    hi = 3.0 * dh.BONE_RATIO_MEAN * height_m
+    bones = np.clip(bones, lo, hi)
+    kin.set_bone_lengths(bones)
+    eye, _ = model_eye_height(kin)
+    bones = bones * (EYE_HEIGHT_FRACTION * height_m / eye)
+    kin.set_bone_lengths(bones)
+    return bones
+
+
 def calibrate_from_poses(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, qpos_track: np.ndarray,
                          focal: float, principal_point, estimate_focal: bool, height_m: float, frames: int = 40,
                          rounds: int = 5, bone_prior_weight: float = 1.0, focal_prior_sigma: float = 0.7,
-                         robust_px: float | None = 20.0, joint_limits: bool = True) -> Calibration:
-    """Like :func:`calibrate`, starting from tracked poses ``qpos_track`` (T, 41) instead of per-frame guesses."""
+                         robust_px: float | None = 20.0, joint_limits: bool = True, fix_bones: bool = False
+                         ) -> Calibration:
+    """Like :func:`calibrate`, starting from tracked poses ``qpos_track`` (T, 41) instead of per-frame guesses.
+
+    ``fix_bones``: keep the current bone lengths and estimate only the focal length (and root translations)."""
     idx = pick_frames(weights, frames)
     return _alternate(kin, obs[idx], weights[idx], idx, qpos_track[idx].copy(), focal, principal_point,
                       estimate_focal, height_m, rounds, bone_prior_weight, focal_prior_sigma, robust_px,
-                      joint_limits)
+                      joint_limits, fix_bones)
 
 
 def calibrate(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, focal: float, principal_point,
@@ -191,9 +239,11 @@ def calibrate(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, focal
 
 
 def _alternate(kin, sub_obs, sub_w, idx, qpos, focal, principal_point, estimate_focal, height_m, rounds,
-               bone_prior_weight, focal_prior_sigma, robust_px, joint_limits) -> Calibration:
+               bone_prior_weight, focal_prior_sigma, robust_px, joint_limits, fix_bones=False) -> Calibration:
     log_f0 = np.log(focal)
     bones = kin.bone_lengths
+    if fix_bones:
+        bone_prior_weight = 0.0
     lo_b = 0.3 * dh.BONE_RATIO_MEAN * height_m
     hi_b = 3.0 * dh.BONE_RATIO_MEAN * height_m
     for _ in range(rounds):
@@ -204,6 +254,8 @@ def _alternate(kin, sub_obs, sub_w, idx, qpos, focal, principal_point, estimate_
         hi = np.concatenate([hi_b, [np.log(50000.0)], np.full(3 * len(idx), 200.0)])
         if not estimate_focal:
             lo[9], hi[9] = np.log(focal) - 1e-9, np.log(focal) + 1e-9
+        if fix_bones:
+            lo[:9], hi[:9] = bones - 1e-9, bones + 1e-9
         p0 = np.clip(p0, lo + 1e-12, hi - 1e-12)
         p, _ = minimize.least_squares(p0, problem.residual, bounds=(lo, hi), jacobian=problem.jacobian,
                                       max_iter=10, verbose=0)

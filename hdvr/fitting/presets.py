@@ -41,8 +41,9 @@ class FitSettings:
     height_m: float = 1.70  # dancer stature (fixes the monocular scale)
     # -- what HDVR adds to the paper --------------------------------------------------------------------------
     calibrate: bool = True  # first pass: one bone-length set (and focal) per dancer from a frame subsample
-    calibration_frames: int = 40
-    calibration_rounds: int = 5
+    bone_method: str = "projection"  # "projection" (longest image lengths) or "least_squares" (joint fit)
+    calibration_frames: int = 30
+    calibration_rounds: int = 3
     seed_strategy: str = "mirror"  # "mirror": warm start + mirrored-limb seeds; "random": the paper's seeds
     focal_per_window: bool = False  # the paper: omega optimised per frame and averaged over the window
     reinit_px: float = 6.0  # re-initialise a window whose mean reprojection error exceeds this (and 2.5x usual)

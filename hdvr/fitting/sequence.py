@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from hdvr.errors import HDVRError
-from hdvr.fitting.calibration import calibrate_from_poses, stature_scaled_bones
+from hdvr.fitting.calibration import bones_from_projections, calibrate_from_poses, stature_scaled_bones
 from hdvr.fitting.floor import Floor, camera_pose_in_world, estimate_floor, qpos_to_world
 from hdvr.fitting.intrinsics import initial_intrinsics
 from hdvr.fitting.kinematics import DancerKinematics
@@ -45,6 +45,7 @@ CALIBRATION_SPAN = 300  # frames of the quick calibration track (10 s at 30 fps)
 class FitReport:
     """What a fit produced besides the poses: timings (s), calibration, floor, diagnostics."""
 
+    frames: int = 0
     seconds: dict[str, float] = field(default_factory=dict)
     bone_lengths: np.ndarray | None = None
     focal: float | None = None
@@ -55,7 +56,7 @@ class FitReport:
     @property
     def frames_per_second(self) -> float:
         total = sum(self.seconds.values())
-        return float(self.seconds.get("frames", 0) / total) if total else 0.0
+        return float(self.frames / total) if total else 0.0
 
 
 def observation_weights(kp: Keypoints2D, settings: FitSettings) -> tuple[np.ndarray, np.ndarray]:
@@ -117,13 +118,18 @@ def fit_keypoints(kp: Keypoints2D, settings: FitSettings | None = None, skeleton
         span = min(n, CALIBRATION_SPAN)
         quick = FitSettings(**{**settings.to_dict(), "seeds": 1, "refine_sweeps": 0, "focal_per_window": False})
         track0 = WindowFitter(kin, obs[:span], weights[:span], focal, pp, quick, False).fit(desc="calibrate")
-        cal = calibrate_from_poses(kin, obs[:span], weights[:span], track0.qpos, focal, pp, estimate_focal,
-                                   settings.height_m, frames=settings.calibration_frames,
-                                   rounds=settings.calibration_rounds, bone_prior_weight=settings.bone_prior_weight,
-                                   focal_prior_sigma=settings.focal_prior_sigma, robust_px=settings.robust_px,
-                                   joint_limits=settings.joint_limits)
-        focal = cal.focal
-        kin.set_bone_lengths(cal.bone_lengths)
+        bones = bones_from_projections(kin, obs[:span], weights[:span], track0.keypoints, focal, settings.height_m)
+        if estimate_focal or settings.bone_method == "least_squares":
+            cal = calibrate_from_poses(kin, obs[:span], weights[:span], track0.qpos, focal, pp, estimate_focal,
+                                       settings.height_m, frames=settings.calibration_frames,
+                                       rounds=settings.calibration_rounds,
+                                       bone_prior_weight=settings.bone_prior_weight,
+                                       focal_prior_sigma=settings.focal_prior_sigma, robust_px=settings.robust_px,
+                                       joint_limits=settings.joint_limits,
+                                       fix_bones=settings.bone_method != "least_squares")
+            focal = cal.focal
+            bones = cal.bone_lengths
+        kin.set_bone_lengths(bones)
     report.seconds["calibration"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
@@ -143,14 +149,14 @@ def fit_keypoints(kp: Keypoints2D, settings: FitSettings | None = None, skeleton
     qpos_world = qpos_to_world(track.qpos, rotation, centre)
     errors = np.array([fitter.reprojection_px(range(t, t + 1), track.keypoints[t:t + 1], track.focal[t:t + 1])
                        for t in range(n)])
-    report.seconds["frames"] = n
+    report.frames = n
     report.bone_lengths = kin.bone_lengths
     report.focal = float(np.median(track.focal))
     report.focal_estimated = estimate_focal
     report.floor_contact_fraction = floor.contact_fraction
     meta = {"settings": settings.to_dict(), "focal_estimated": estimate_focal,
             "floor_contact_fraction": floor.contact_fraction, "reinitialisations": report.reinitialisations,
-            "seconds": {k: v for k, v in report.seconds.items() if k != "frames"}}
+            "seconds": dict(report.seconds)}
     result = Result3D(keypoints3d=track.keypoints, qpos=qpos_world, focal=track.focal,
                       principal_point=np.tile(pp, (n, 1)), bone_lengths=kin.bone_lengths,
                       reprojection_error_px=errors, fps=kp.fps, camera_rotation=rotation, camera_centre=centre,

@@ -26,7 +26,7 @@ from hdvr.fitting.intrinsics import smooth_focal
 from hdvr.fitting.kinematics import NUM_TANGENT, DancerKinematics, qpos_from_tangent, tangent_from_qpos
 from hdvr.fitting.presets import FitSettings
 from hdvr.fitting.residuals import FloorTerms, FrameProblem, LinearTerm
-from hdvr.fitting.seeds import LIMB_NAMES, initial_pose, mirror_limb, random_bones, random_qpos
+from hdvr.fitting.seeds import LIMB_NAMES, SEGMENTS, initial_pose, mirror_limb, random_bones, random_qpos
 from hdvr.fitting.solver import parameter_bounds, solve_frame
 from hdvr.progress import progress
 
@@ -158,12 +158,13 @@ class WindowFitter:
                     ) -> list[tuple[np.ndarray, np.ndarray | None]]:
         """K starting poses (and bone lengths, for the paper's bone seeds) for a window beginning at ``t0``."""
         starts: list[tuple[np.ndarray, np.ndarray | None]] = [(base, None)]
+        ranked = self.rank_segments(t0, base, window_index, focal)
         for k in range(1, self.s.seeds):
             if self.s.seed_strategy == "random":
                 bones = None if self.s.bone_prior else random_bones(self.rng, self.s.height_m)
                 starts.append((random_qpos(self.kin, self.rng, base), bones))
             else:
-                limb = LIMB_NAMES[(window_index + k - 1) % len(LIMB_NAMES)]
+                limb = ranked[(k - 1) % len(ranked)]
                 problem = self.problem(t0, None, focal, prev_kp[:2], prev_q[:2])
                 bounds = parameter_bounds(problem, self.kin.skeleton.lower, self.kin.skeleton.upper,
                                           self.s.joint_limits)
@@ -171,6 +172,17 @@ class WindowFitter:
         if self.s.seed_strategy == "random" and not self.s.bone_prior:
             starts[0] = (starts[0][0], random_bones(self.rng, self.s.height_m))
         return starts
+
+    def rank_segments(self, t: int, qpos: np.ndarray, window_index: int, focal: float) -> list[str]:
+        """Limb segments ordered by the reprojection error (pixels) of the keypoints they move, at frame ``t``
+        for pose ``qpos``: the worst-fitting segment is mirrored first. Ties (all fit) rotate with the window."""
+        kp = self.kin.keypoints(qpos)
+        proj = focal * kp[:, :2] / np.maximum(kp[:, 2:3], 1e-3) + self.pp
+        err = np.linalg.norm(proj - self.obs[t], axis=1)
+        err = np.where((self.weights[t] > 0) & np.isfinite(err), err, 0.0)
+        order = np.roll(np.arange(len(LIMB_NAMES)), -window_index)
+        scores = [float(err[list(SEGMENTS[LIMB_NAMES[i]][2])].mean()) for i in order]
+        return [LIMB_NAMES[order[i]] for i in np.argsort(scores, kind="stable")[::-1]]
 
     def best_of(self, frames: range, starts, prev_kp, prev_q, focal):
         best = None
