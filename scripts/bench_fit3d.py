@@ -123,7 +123,7 @@ def main() -> int:
     for condition in args.conditions:
         for name, pos in mocap.items():
             clip = pos[30:30 + int(args.seconds * 30)]
-            kp, gt, focal = make_clip(clip, np.random.default_rng([args.seed, hash(name) % 1000]), condition)
+            kp, gt, focal = make_clip(clip, np.random.default_rng([args.seed, int(name.replace("_", ""))]), condition)
             if condition == "clean":
                 clips_clean.append((name, kp, gt, focal))
             for mode in args.focal_modes:

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from hdvr.errors import HDVRError
+from hdvr.fitting.blas import single_threaded_blas
 from hdvr.fitting.calibration import bones_from_projections, calibrate_from_poses, stature_scaled_bones
 from hdvr.fitting.floor import Floor, camera_pose_in_world, estimate_floor, qpos_to_world
 from hdvr.fitting.intrinsics import initial_intrinsics
@@ -100,6 +101,12 @@ def refine(fitter: WindowFitter, track: Track, settings: FitSettings, floor: Flo
 def fit_keypoints(kp: Keypoints2D, settings: FitSettings | None = None, skeleton: Skeleton | None = None
                   ) -> tuple[Result3D, FitReport]:
     """Fit the digital dancer to one dancer's 2D keypoints; returns the 3D result and a report."""
+    with single_threaded_blas():
+        return _fit_keypoints(kp, settings, skeleton)
+
+
+def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skeleton | None
+                   ) -> tuple[Result3D, FitReport]:
     settings = settings or FitSettings()
     report = FitReport()
     clock = time.perf_counter()

@@ -110,7 +110,7 @@ def projected_lm(residual, jacobian, x0: np.ndarray, lo: np.ndarray, hi: np.ndar
 
 
 def solve_frame(problem: FrameProblem, params0: np.ndarray, bounds: tuple[np.ndarray, np.ndarray],
-                max_iter: int = 10, tolerance: float = 1e-6, mu_factor: float = 10.0 ** 0.5,
+                max_iter: int = 10, tolerance: float = 1e-3, mu_factor: float = 10.0 ** 0.5,
                 solver: str | None = None) -> FrameSolution:
     """Minimise the frame's residuals from ``params0`` within ``bounds`` (solver: "lm" or "mujoco")."""
     lo, hi = bounds
