@@ -46,7 +46,9 @@ class FitSettings:
     calibration_rounds: int = 3
     seed_strategy: str = "mirror"  # "mirror": warm start + mirrored-limb seeds; "random": the paper's seeds
     focal_per_window: bool = False  # the paper: omega optimised per frame and averaged over the window
-    reinit_px: float = 6.0  # re-initialise a window whose mean reprojection error exceeds this (and 2.5x usual)
+    reinit_px: float = 3.0  # re-initialise a window whose mean reprojection error exceeds this (px) ...
+    reinit_factor: float = 1.3  # ... and this times the 25th percentile of the earlier windows
+    fresh_iter: int = 10  # iterations per yaw and per mirror of a fresh start
     refine_sweeps: int = 2  # sequence-level refinement sweeps (second-difference smoothness, no seams)
     robust_px: float | None = 20.0  # Cauchy scale of the reprojection loss; None = plain least squares
     sigma_px: float = 1.0

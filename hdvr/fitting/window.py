@@ -9,9 +9,10 @@ Two schedules (:class:`hdvr.fitting.presets.FitSettings`):
   seed; seed 0 continues the previous window (warm start), the other seeds mirror one limb in depth (cycling
   over the four limbs), so that temporal consistency (the window error includes the smoothness terms against the
   frames already committed) chooses between depth-ambiguous solutions. The first window also tries every yaw.
-  When a window's mean reprojection error exceeds ``max(reinit_px, 2.5 x`` the running median of earlier
-  windows``)`` (the track was lost, typically in a fast spin), the window is re-solved with one more seed: a fresh
-  start from the 2D keypoints (every yaw, then every segment mirror).
+  When a window's mean reprojection error exceeds ``max(reinit_px, 2 x`` the 25th percentile of the earlier
+  windows'``)`` (the track was lost, typically in a fast spin, and the error creeps up), the window is re-solved
+  from a fresh start on its 2D keypoints (every yaw, then every segment mirror) and that is kept if it fits
+  better.
 
 Poses are solved in the camera frame (x right, y down, z forward, metres).
 """
@@ -228,17 +229,18 @@ class WindowFitter:
                     starts = self.seed_starts(lo, base, w_idx, focal, prev_kp, prev_q)
                 (qs, kps, fs, costs), bones = self.best_of(frames, starts, prev_kp, prev_q, focal)
                 err_px = self.reprojection_px(frames, kps, fs)
-                limit = max(self.s.reinit_px, 2.5 * float(np.median(history))) if history else np.inf
+                limit = max(self.s.reinit_px, self.s.reinit_factor * float(np.percentile(history, 25))) if history else np.inf
                 if base is not None and err_px > limit and self.s.seed_strategy == "mirror":
-                    fresh = self.first_window_starts(lo, focal)[:1]
-                    out = self.run_chain(frames, fresh[0][0], [], [], focal)
+                    fresh, _ = initial_pose(self.kin, self.obs[lo], self.weights[lo], focal, self.pp,
+                                            self.s.joint_limits, max_iter=self.s.fresh_iter,
+                                            robust_px=self.s.robust_px)
+                    out = self.run_chain(frames, fresh, [], [], focal)
                     fresh_err = self.reprojection_px(frames, out[1], out[2])
                     if fresh_err < err_px:
                         qs, kps, fs, costs = out
                         err_px = fresh_err
                         self.reinit_count += 1
                 history.append(err_px)
-                history = history[-20:]
                 keep = [t - lo] if centred else range(len(frames))
                 for k in keep:
                     j = lo + k
