@@ -32,7 +32,7 @@ sys.path.insert(0, str(REPO))
 import numpy as np  # noqa: E402
 
 from hdvr.camera import look_at, project  # noqa: E402
-from hdvr.fitting.ablation import markdown_table, run_ablation, write_tables  # noqa: E402
+from hdvr.fitting.ablation import markdown_table, run_ablation  # noqa: E402
 from hdvr.fitting.presets import FitSettings  # noqa: E402
 from hdvr.fitting.sequence import fit_keypoints  # noqa: E402
 from hdvr.io.atomic import write_text_atomic  # noqa: E402
@@ -91,15 +91,17 @@ def fit_and_score(kp, gt, settings):
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--takes", nargs="*", default=["01", "02", "03"], help="salsa take numbers (both dancers each)")
-    ap.add_argument("--seconds", type=float, default=20.0, help="seconds per clip (from 1 s into the take)")
+    ap.add_argument("--takes", nargs="*", default=["02", "03"], help="salsa take numbers (both dancers each)")
+    ap.add_argument("--seconds", type=float, default=10.0, help="seconds per clip (from 1 s into the take)")
     ap.add_argument("--conditions", nargs="*", default=list(CONDITIONS))
     ap.add_argument("--focal-modes", nargs="*", default=["given", "estimated"])
     ap.add_argument("--speed-seconds", type=float, default=60.0, help="length of the speed/memory clip")
     ap.add_argument("--ablate", action="store_true", help="also run the ablation table (clean, focal given)")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--speed-only", type=float, default=None, help=argparse.SUPPRESS)
-    ap.add_argument("--out-json", default=str(REPO / "docs" / "bench_fit3d.json"))
+    ap.add_argument("--figures", action="store_true", help="write docs/img/fitting_skeleton.png and _error.png")
+    ap.add_argument("--out-json", default=os.path.join(os.environ.get("TMPDIR", "/tmp"), "hdvr_bench_fit3d.json"),
+                    help="all rows, per clip (default: in the temporary folder)")
     ap.add_argument("--out-md", default=str(REPO / "docs" / "benchmarks.md"))
     args = ap.parse_args()
 
@@ -118,6 +120,9 @@ def main() -> int:
         row.update(clip=f"{len(pos) / 30:.0f} s of salsa", condition="clean", focal="given")
         print("SPEED " + json.dumps(row, default=float))
         return 0
+    if args.figures:
+        name = next(iter(mocap))
+        figures(mocap[name][30:30 + int(args.seconds * 30)], name, args.seed)
     rows = []
     clips_clean = []
     for condition in args.conditions:
@@ -151,7 +156,6 @@ def main() -> int:
         ablation = run_ablation(clips, ["full", "no_joint_limits", "no_bone_prior", "no_temporal", "physics",
                                         "paper"], FitSettings(random_seed=args.seed),
                                 focal_per_clip=[f for *_, f in clips_clean])
-        write_tables(ablation, REPO / "docs", "ablation_fit3d")
 
     summary = summarise(rows)
     Path(args.out_json).parent.mkdir(parents=True, exist_ok=True)
@@ -161,6 +165,55 @@ def main() -> int:
     write_text_atomic(args.out_md, markdown(summary, speed, ablation, args))
     print(f"wrote {args.out_md} and {args.out_json}")
     return 0
+
+
+def figures(clip: np.ndarray, name: str, seed: int) -> None:
+    """A fitted frame beside the mocap (two views) and the per-frame error over the clip."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from hdvr.layouts import BODY25_BONES, EVAL_JOINTS
+    from hdvr.metrics import procrustes_align, root_relative
+
+    kp, gt, focal = make_clip(clip, np.random.default_rng([seed, int(name.replace("_", ""))]), "clean")
+    result, _ = fit_keypoints(kp, FitSettings(focal=focal, random_seed=seed), Skeleton())
+    pred, ref = root_relative(result.keypoints3d), root_relative(gt)
+    err = np.linalg.norm(pred - ref, axis=-1).mean(axis=1) * 1000
+    perr = np.linalg.norm(procrustes_align(pred, ref) - ref, axis=-1).mean(axis=1) * 1000
+    out = REPO / "docs" / "img"
+    out.mkdir(parents=True, exist_ok=True)
+    t = int(np.argsort(err)[len(err) // 2])  # a median frame
+    fit_t = result.keypoints3d[t] - result.keypoints3d[t, 8]
+    gt_t = gt[t] - gt[t, 8]
+    fig, axes = plt.subplots(1, 2, figsize=(9, 5))
+    for ax, (i, j, title) in zip(axes, ((0, 1, "camera view (x right, y down)"), (2, 1, "side view (z = depth)"))):
+        for a, b in BODY25_BONES:
+            ia, ib = BODY25_NAMES.index(a), BODY25_NAMES.index(b)
+            ax.plot(gt_t[[ia, ib], i], gt_t[[ia, ib], j], color="0.6", lw=3)
+            ax.plot(fit_t[[ia, ib], i], fit_t[[ia, ib], j], color="tab:red", lw=1.5)
+        ax.set_title(title)
+        ax.set_aspect("equal")
+        ax.invert_yaxis()
+        ax.set_xlabel("m")
+    axes[0].plot([], [], color="0.6", lw=3, label="mocap")
+    axes[0].plot([], [], color="tab:red", lw=1.5, label="fit3d")
+    axes[0].legend(loc="lower left")
+    fig.suptitle(f"salsa {name}, frame {t}: MPJPE {err[t]:.0f} mm (median frame)")
+    fig.tight_layout()
+    fig.savefig(out / "fitting_skeleton.png", dpi=80)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(9, 3.2))
+    ax.plot(np.arange(len(err)) / 30.0, err, label="MPJPE")
+    ax.plot(np.arange(len(err)) / 30.0, perr, label="P-MPJPE")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel(f"error on {len(EVAL_JOINTS)} joints (mm)")
+    ax.set_title(f"salsa {name}, clean 2D, focal given: per-frame error")
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(out / "fitting_error.png", dpi=80)
+    plt.close(fig)
 
 
 def machine() -> str:
@@ -208,9 +261,10 @@ def markdown(summary, speed, ablation, args) -> str:
     if ablation:
         lines += ["", "Ablations (clean 2D, focal given, same clips; medians over clips):", "",
                   markdown_table(ablation).rstrip()]
-    lines += ["", "Reproduce (2 CPU cores):", "", "```",
+    lines += ["", "![fit vs mocap](img/fitting_skeleton.png)", "", "![per-frame error](img/fitting_error.png)", "",
+              "Reproduce (2 CPU cores):", "", "```",
               f"python3 scripts/bench_fit3d.py --takes {' '.join(args.takes)} --seconds {args.seconds:g}"
-              + (" --ablate" if args.ablate else ""), "```", ""]
+              + (" --ablate" if args.ablate else "") + (" --figures" if args.figures else ""), "```", ""]
     return "\n".join(lines)
 
 

@@ -49,6 +49,8 @@ class FitSettings:
     reinit_px: float = 3.0  # re-initialise a window whose mean reprojection error exceeds this (px) ...
     reinit_factor: float = 1.3  # ... and this times the 25th percentile of the earlier windows
     fresh_iter: int = 10  # iterations per yaw and per mirror of a fresh start
+    fresh_yaws: int = 8  # upright orientations a fresh start tries
+    fresh_flips: bool = False  # a fresh start also tries every segment mirror (measured: no gain, 2x cost)
     refine_sweeps: int = 2  # sequence-level refinement sweeps (second-difference smoothness, no seams)
     robust_px: float | None = 20.0  # Cauchy scale of the reprojection loss; None = plain least squares
     sigma_px: float = 1.0
@@ -66,7 +68,7 @@ class FitSettings:
     velocity_weight_2d: float = 0.0  # per pixel (paper: alpha)
     acceleration_weight_3d: float = 60.0  # per metre of second difference
     hinge_velocity_weight: float = 2.0  # per radian between frames
-    penetration_weight: float = 400.0  # per metre below the floor
+    penetration_weight: float = 3000.0  # per metre below the floor
     skate_weight: float = 100.0  # per metre of sliding while in contact
     bone_prior_weight: float = 1.0  # multiplies (b - mean h) / (std h)
     focal_prior_sigma: float = 0.7  # std of log focal around the field-of-view guess

@@ -232,8 +232,9 @@ class WindowFitter:
                 limit = max(self.s.reinit_px, self.s.reinit_factor * float(np.percentile(history, 25))) if history else np.inf
                 if base is not None and err_px > limit and self.s.seed_strategy == "mirror":
                     fresh, _ = initial_pose(self.kin, self.obs[lo], self.weights[lo], focal, self.pp,
-                                            self.s.joint_limits, max_iter=self.s.fresh_iter,
-                                            robust_px=self.s.robust_px)
+                                            self.s.joint_limits, yaws=self.s.fresh_yaws,
+                                            max_iter=self.s.fresh_iter, robust_px=self.s.robust_px,
+                                            flips=self.s.fresh_flips)
                     out = self.run_chain(frames, fresh, [], [], focal)
                     fresh_err = self.reprojection_px(frames, out[1], out[2])
                     if fresh_err < err_px:
