@@ -112,3 +112,14 @@ def summarize(skeleton, keypoints_world: np.ndarray, qpos_world: np.ndarray, fps
         "bone_cv_max_pct": float(max(cv.values()) * 100),
         "jitter_m_s3": jitter(keypoints_world, fps),
     }
+
+
+def world_keypoints(result) -> np.ndarray:
+    """The fitted BODY_25 keypoints of a :class:`hdvr.io.result3d.Result3D` in its dancer world (metres):
+    ``P_world = R^T P_cam + C``. (Recomputing them from qpos would use one bone set for every frame.)"""
+    return np.asarray(result.keypoints3d, dtype=np.float64) @ result.camera_rotation + result.camera_centre
+
+
+def summarize_result(skeleton, result) -> dict[str, float]:
+    """:func:`summarize` for a fitted :class:`hdvr.io.result3d.Result3D`."""
+    return summarize(skeleton, world_keypoints(result), result.qpos, result.fps)

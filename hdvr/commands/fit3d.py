@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     from hdvr.fitting.sequence import fit_keypoints
     from hdvr.io.keypoints2d import load_keypoints2d
     from hdvr.io.result3d import save_result3d
-    from hdvr.plausibility import summarize
+    from hdvr.plausibility import summarize_result
     from hdvr.skeleton import Skeleton
 
     src = Path(args.keypoints)
@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
     settings = settings_from_args(args)
     skeleton = Skeleton()
     result, report = fit_keypoints(kp, settings, skeleton)
-    figures = summarize(skeleton, skeleton.keypoints(result.qpos), result.qpos, result.fps)
+    figures = summarize_result(skeleton, result)
     result.meta["plausibility"] = figures
     save_result3d(args.out, result)
     print(json.dumps({"frames": result.num_frames, "frames_per_second": round(report.frames_per_second, 1),

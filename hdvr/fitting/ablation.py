@@ -22,7 +22,7 @@ from hdvr.fitting.sequence import fit_keypoints
 from hdvr.io.atomic import write_text_atomic
 from hdvr.io.keypoints2d import Keypoints2D
 from hdvr.metrics import evaluate
-from hdvr.plausibility import summarize
+from hdvr.plausibility import summarize_result
 from hdvr.skeleton import Skeleton
 
 ABLATIONS: dict[str, str] = {
@@ -71,7 +71,7 @@ def run_ablation(clips: list[tuple[str, Keypoints2D, np.ndarray | None]], names,
             result, _ = fit_keypoints(kp, settings, skeleton)
             seconds += time.perf_counter() - start
             frames += result.num_frames
-            figures = summarize(skeleton, skeleton.keypoints(result.qpos), result.qpos, result.fps)
+            figures = summarize_result(skeleton, result)
             if gt is not None:
                 figures.update(evaluate(result.keypoints3d, gt))
             figures["clip"] = clip_name
