@@ -1,0 +1,171 @@
+"""The whole clip: calibration, windowed fit, sequence-level refinement, floor and camera pose, Result3D.
+
+Pipeline of :func:`fit_keypoints`:
+
+1. 2D keypoints to BODY_25; weights = detector confidence (0 below ``min_confidence``) x joint weight.
+2. Intrinsics: given, or a field-of-view guess refined in step 3.
+3. Per-dancer calibration (``calibrate``): a quick one-seed track of the first ``CALIBRATION_SPAN`` frames with the
+   table's mean bones scaled to the stature, then :func:`hdvr.fitting.calibration.calibrate_from_poses` on a
+   subsample of it: one bone-length set (and focal) shared by the clip.
+4. The windowed fit of :mod:`hdvr.fitting.window` (Algorithm 3* or HDVR's schedule).
+5. Refinement (``refine_sweeps``): Gauss-Seidel sweeps over the clip, each frame re-solved against its fixed
+   neighbours with second differences on both sides (so windows leave no seams) and, with ``physics``, floor
+   penetration and foot-skating terms for the floor estimated from the unrefined fit.
+6. Floor plane and camera pose (:mod:`hdvr.fitting.floor`); qpos re-expressed in the floor world.
+
+Memory: per-frame arrays only (qpos, keypoints, focal), O(T) with ~1 kB per frame; every solve is one frame.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hdvr.errors import HDVRError
+from hdvr.fitting.blas import single_threaded_blas
+from hdvr.fitting.calibration import bones_from_projections, calibrate_from_poses, stature_scaled_bones
+from hdvr.fitting.floor import Floor, camera_pose_in_world, estimate_floor, qpos_to_world
+from hdvr.fitting.intrinsics import initial_intrinsics
+from hdvr.fitting.kinematics import DancerKinematics
+from hdvr.fitting.limits import apply_ranges
+from hdvr.fitting.presets import FitSettings, default_joint_weights
+from hdvr.fitting.residuals import FOOT_KEYPOINTS, FloorTerms
+from hdvr.fitting.window import Track, WindowFitter
+from hdvr.io.keypoints2d import Keypoints2D
+from hdvr.io.result3d import Result3D
+from hdvr.layouts import BODY25_NAMES
+from hdvr.progress import progress
+from hdvr.skeleton import Skeleton
+
+CALIBRATION_SPAN = 300  # frames of the quick calibration track (10 s at 30 fps)
+
+
+@dataclass
+class FitReport:
+    """What a fit produced besides the poses: timings (s), calibration, floor, diagnostics."""
+
+    frames: int = 0
+    seconds: dict[str, float] = field(default_factory=dict)
+    bone_lengths: np.ndarray | None = None
+    focal: float | None = None
+    focal_estimated: bool = False
+    floor_contact_fraction: float = 0.0
+    reinitialisations: int = 0
+
+    @property
+    def frames_per_second(self) -> float:
+        total = sum(self.seconds.values())
+        return float(self.frames / total) if total else 0.0
+
+
+def observation_weights(kp: Keypoints2D, settings: FitSettings) -> tuple[np.ndarray, np.ndarray]:
+    """(observed (T, 25, 2) pixels with NaN where missing, weights (T, 25)) from BODY_25 keypoints."""
+    body = kp.to_body25()
+    xy = body.keypoints[..., :2].astype(np.float64)
+    conf = body.keypoints[..., 2].astype(np.float64)
+    ok = (conf >= settings.min_confidence) & np.isfinite(xy).all(axis=-1)
+    weights = np.where(ok, conf, 0.0) * default_joint_weights(settings.face_weight, settings.foot_weight)
+    xy[~ok] = np.nan
+    if not ok.any():
+        raise HDVRError("no keypoint is visible (all missing or below the confidence threshold)")
+    return xy, weights
+
+
+def refine(fitter: WindowFitter, track: Track, settings: FitSettings, floor: Floor | None, desc: str = "refine"
+           ) -> Track:
+    """Gauss-Seidel sweeps: each frame re-solved with two-sided second differences (and floor terms)."""
+    n = len(track.qpos)
+    for sweep in range(settings.refine_sweeps):
+        with progress(total=n, desc=f"{desc} {sweep + 1}/{settings.refine_sweeps}") as bar:
+            for t in range(n):
+                prev = [j for j in (t - 1, t - 2) if j >= 0]
+                nxt = [j for j in (t + 1, t + 2) if j < n]
+                floor_terms = None
+                if floor is not None and settings.physics:
+                    floor_terms = FloorTerms(floor.normal, floor.offset, settings.penetration_weight,
+                                             settings.skate_weight,
+                                             track.keypoints[t - 1][FOOT_KEYPOINTS] if t > 0 else None)
+                problem = fitter.problem(t, None, track.focal[t], [track.keypoints[j] for j in prev],
+                                         [track.qpos[j] for j in prev], [track.keypoints[j] for j in nxt],
+                                         [track.qpos[j] for j in nxt], floor=floor_terms)
+                q, _, cost = fitter.solve(problem, track.qpos[t], track.focal[t], settings.refine_iter)
+                track.qpos[t] = q
+                track.keypoints[t] = fitter.kin.keypoints(q)
+                track.cost[t] = cost
+                bar.update(1)
+    return track
+
+
+def fit_keypoints(kp: Keypoints2D, settings: FitSettings | None = None, skeleton: Skeleton | None = None
+                  ) -> tuple[Result3D, FitReport]:
+    """Fit the digital dancer to one dancer's 2D keypoints; returns the 3D result and a report."""
+    with single_threaded_blas():
+        return _fit_keypoints(kp, settings, skeleton)
+
+
+def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skeleton | None
+                   ) -> tuple[Result3D, FitReport]:
+    settings = settings or FitSettings()
+    report = FitReport()
+    clock = time.perf_counter()
+    obs, weights = observation_weights(kp, settings)
+    n = len(obs)
+    intr = initial_intrinsics(kp.image_size, settings.focal, settings.principal_point)
+    estimate_focal = settings.focal is None
+    skeleton = skeleton or Skeleton()
+    apply_ranges(skeleton, settings.joint_ranges)
+    kin = DancerKinematics(skeleton)
+    kin.set_bone_lengths(stature_scaled_bones(kin, settings.height_m))
+    focal = intr.focal
+    pp = np.asarray(intr.principal_point)
+
+    if settings.calibrate:
+        span = min(n, CALIBRATION_SPAN)
+        quick = FitSettings(**{**settings.to_dict(), "seeds": 1, "refine_sweeps": 0, "focal_per_window": False})
+        track0 = WindowFitter(kin, obs[:span], weights[:span], focal, pp, quick, False).fit(desc="calibrate")
+        bones = bones_from_projections(kin, obs[:span], weights[:span], track0.keypoints, focal, settings.height_m)
+        if estimate_focal or settings.bone_method == "least_squares":
+            cal = calibrate_from_poses(kin, obs[:span], weights[:span], track0.qpos, focal, pp, estimate_focal,
+                                       settings.height_m, frames=settings.calibration_frames,
+                                       rounds=settings.calibration_rounds,
+                                       bone_prior_weight=settings.bone_prior_weight,
+                                       focal_prior_sigma=settings.focal_prior_sigma, robust_px=settings.robust_px,
+                                       joint_limits=settings.joint_limits,
+                                       fix_bones=settings.bone_method != "least_squares")
+            focal = cal.focal
+            bones = cal.bone_lengths
+        kin.set_bone_lengths(bones)
+    report.seconds["calibration"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    fitter = WindowFitter(kin, obs, weights, focal, pp, settings, estimate_focal)
+    track = fitter.fit()
+    report.reinitialisations = fitter.reinit_count
+    report.seconds["windows"] = time.perf_counter() - clock
+
+    clock = time.perf_counter()
+    floor = estimate_floor(track.keypoints)
+    if settings.refine_sweeps > 0:
+        track = refine(fitter, track, settings, floor)
+        floor = estimate_floor(track.keypoints)
+    report.seconds["refinement"] = time.perf_counter() - clock
+
+    rotation, centre = camera_pose_in_world(floor, track.keypoints[0][BODY25_NAMES.index("mid_hip")])
+    qpos_world = qpos_to_world(track.qpos, rotation, centre)
+    errors = np.array([fitter.reprojection_px(range(t, t + 1), track.keypoints[t:t + 1], track.focal[t:t + 1])
+                       for t in range(n)])
+    report.frames = n
+    report.bone_lengths = kin.bone_lengths
+    report.focal = float(np.median(track.focal))
+    report.focal_estimated = estimate_focal
+    report.floor_contact_fraction = floor.contact_fraction
+    meta = {"settings": settings.to_dict(), "focal_estimated": estimate_focal,
+            "floor_contact_fraction": floor.contact_fraction, "reinitialisations": report.reinitialisations,
+            "seconds": dict(report.seconds)}
+    result = Result3D(keypoints3d=track.keypoints, qpos=qpos_world, focal=track.focal,
+                      principal_point=np.tile(pp, (n, 1)), bone_lengths=kin.bone_lengths,
+                      reprojection_error_px=errors, fps=kp.fps, camera_rotation=rotation, camera_centre=centre,
+                      meta=meta)
+    return result, report
