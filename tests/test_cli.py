@@ -29,7 +29,7 @@ def test_model_info_table(capsys):
 
 
 def test_demo_writes_a_video(tmp_path):
-    assert main(["demo", "--out", str(tmp_path), "--size", "96x72", "--seconds-per-joint", "0.15"]) == 0
+    assert main(["demo", "--out", str(tmp_path), "--size", "96x72", "--seconds-per-joint", "0.15", "--quick"]) == 0
     cap = cv2.VideoCapture(str(tmp_path / "dancer_joint_ranges.mp4"))
     frames = 0
     while True:

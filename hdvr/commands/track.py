@@ -38,28 +38,9 @@ def register(subparsers) -> None:
 
 
 def make_detector(args: argparse.Namespace):
-    from hdvr.errors import HDVRError
+    from hdvr.pipeline import make_detector as by_name
 
-    kind = args.detector.lower()
-    if kind == "none":
-        return None
-    if kind == "openpose":
-        if not args.openpose_json:
-            raise HDVRError("--detector openpose needs --openpose-json FOLDER")
-        from hdvr.pose2d.openpose_json import OpenPoseJsonDetector
-
-        return OpenPoseJsonDetector(args.openpose_json)
-    from hdvr.pose2d.onnx_pose import OnnxPoseDetector
-
-    if kind == "onnx" or args.pose_model:
-        if not args.pose_model:
-            raise HDVRError("--detector onnx needs --pose-model MODEL.onnx")
-        return OnnxPoseDetector(args.pose_model, input_size=args.detector_size, threads=args.threads)
-    if kind == "yolo11n":
-        from hdvr.pose2d.models import default_pose_model
-
-        return OnnxPoseDetector(default_pose_model(), input_size=args.detector_size, threads=args.threads)
-    raise HDVRError(f"unknown detector {args.detector!r}: use yolo11n, onnx, openpose or none")
+    return by_name(args.detector, args.detector_size, args.pose_model, args.openpose_json, args.threads)
 
 
 def run(args: argparse.Namespace) -> int:

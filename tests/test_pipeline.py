@@ -1,0 +1,52 @@
+"""The whole hierarchy wired together: synthetic clip -> hdvr run (OpenPose-JSON poses) -> 3D, BVH, movements."""
+
+import json
+
+import numpy as np
+import pytest
+
+from hdvr.cli import main
+from hdvr.io.bvh import read_bvh
+from hdvr.io.result3d import load_result3d
+from hdvr.synth.groundtruth import clip_spec, make_clip
+
+
+@pytest.fixture(scope="module")
+def synthetic_clip(tmp_path_factory):
+    out = tmp_path_factory.mktemp("synthetic")
+    spec = clip_spec(0, 11, ("ballet",), (1, 1), 2.0)
+    make_clip(out, spec, render=True)
+    return out / spec.name
+
+
+def test_run_on_a_synthetic_clip_with_precomputed_poses(synthetic_clip, tmp_path, capsys):
+    gt = np.load(synthetic_clip / "gt.npz")
+    poses = tmp_path / "openpose"
+    poses.mkdir()
+    for t in range(gt["keypoints2d"].shape[1]):
+        kp = np.concatenate([gt["keypoints2d"][0, t], (gt["visibility"][0, t] > 0)[:, None]], axis=1)
+        doc = {"people": [{"pose_keypoints_2d": kp.reshape(-1).tolist()}]}
+        (poses / f"clip_{t:012d}_keypoints.json").write_text(json.dumps(doc))
+    box = gt["boxes"][0, 0]
+    out = tmp_path / "analysis"
+    assert main(["run", str(synthetic_clip / "video.mp4"), "--out", str(out), "--boxes",
+                 ",".join(f"{v:.1f}" for v in box), "--detector", "openpose", "--openpose-json", str(poses),
+                 "--detect-every", "1"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    dancer = summary["dancers"][0]
+    assert dancer["skipped"] is None and dancer["pose_coverage"] > 0.9
+    result = load_result3d(out / "dancer_0.result3d.npz")
+    assert result.num_frames == gt["keypoints2d"].shape[1]
+    assert np.nanmedian(result.reprojection_error_px) < 10
+    assert read_bvh(out / "dancer_0.bvh").num_frames == result.num_frames
+    labels = json.loads((out / "dancer_0.labels.json").read_text())
+    assert {s["part"] for s in labels["segments"]} >= {"head", "torso", "left_foot"}
+    assert (out / "dancer_0.score.png").stat().st_size > 10_000
+    assert "dancer 0: pose on" in capsys.readouterr().out
+
+
+@pytest.mark.slow
+def test_full_demo(tmp_path):
+    assert main(["demo", "--out", str(tmp_path), "--size", "96x72", "--seconds-per-joint", "0.1"]) == 0
+    scores = json.loads((tmp_path / "demo_scores.json").read_text())
+    assert scores["tracking"]["IDSW"] == 0 and len(scores["dancers"]) == 2
