@@ -16,13 +16,7 @@ from hdvr.skeleton import Skeleton
 SMALL = LifterConfig(filter_widths=(3, 3), channels=64, dropout=0.0)
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    """Tiny models train faster on one thread than on two contended ones (measured 6 s vs 20 s)."""
-    threads = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(threads)
+pytestmark = pytest.mark.usefixtures("one_torch_thread")
 
 
 def test_receptive_field_and_shapes():

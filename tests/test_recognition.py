@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-import torch
 
 from hdvr.recognition.features import PART_JOINTS, body_frame, part_features
 from hdvr.recognition.train import (LabelledClip, RecognitionTrainConfig, load_recognisers, predict_genre,
@@ -11,12 +10,7 @@ from hdvr.recognition.train import (LabelledClip, RecognitionTrainConfig, load_r
 from hdvr.skeleton import Skeleton
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    threads = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(threads)
+pytestmark = pytest.mark.usefixtures("one_torch_thread")
 
 
 def _arm_clip(seed: int, frames: int = 200, fps: float = 30.0):

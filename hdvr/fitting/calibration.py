@@ -16,6 +16,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
+from hdvr.camera import projection_jacobian
 from mujoco import minimize
 
 from hdvr import dh
@@ -135,11 +137,7 @@ class _BoneProblem:
             vis = np.flatnonzero(self.weights[i] > 0)
             p = kp[vis]
             z = np.maximum(p[:, 2], 1e-3)
-            d = np.zeros((len(vis), 2, 3))
-            d[:, 0, 0] = f / z
-            d[:, 0, 2] = -f * p[:, 0] / z ** 2
-            d[:, 1, 1] = f / z
-            d[:, 1, 2] = -f * p[:, 1] / z ** 2
+            d = projection_jacobian(np.column_stack([p[:, :2], z]), f)
             sw = np.sqrt(self.weights[i][vis])[:, None]
             e = (f * p[:, :2] / z[:, None] + self.pp - self.obs[i][vis]) * sw
             s = (self._scale(e) * sw)[:, :, None]

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from hdvr.camera import projection_jacobian
 from hdvr.fitting.kinematics import NUM_TANGENT, DancerKinematics, qpos_from_tangent
 
 FOOT_KEYPOINTS = np.array([19, 20, 21, 22, 23, 24])  # BODY_25 toes and heels
@@ -210,11 +211,7 @@ class FrameProblem:
         vis = self.visible
         pv = kp[vis]
         z = np.maximum(pv[:, 2], 1e-3)
-        dproj = np.zeros((len(vis), 2, 3))
-        dproj[:, 0, 0] = f / z
-        dproj[:, 0, 2] = -f * pv[:, 0] / z ** 2
-        dproj[:, 1, 1] = f / z
-        dproj[:, 1, 2] = -f * pv[:, 1] / z ** 2
+        dproj = projection_jacobian(np.column_stack([pv[:, :2], z]), f)
         proj = f * pv[:, :2] / z[:, None] + self.principal_point
         e = (proj - self._obs) * self._sqrt_w
         scale = self._robust_scale(e) * self._sqrt_w
