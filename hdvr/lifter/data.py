@@ -62,7 +62,8 @@ def _padded_window(arr: np.ndarray, start: int, length: int) -> np.ndarray:
 
 
 class WindowDataset(torch.utils.data.Dataset):
-    """Windows of ``receptive_field + out_frames - 1`` input frames predicting ``out_frames`` outputs.
+    """Windows of ``receptive_field + out_frames - 1`` input frames predicting ``out_frames`` outputs, starting
+    every ``stride`` frames.
 
     Each item: ``inputs`` (T_in, 25, 3), ``keypoints2d`` (L, 25, 2), ``confidence`` (L, 25), ``fit3d`` (L, 25, 3),
     ``labels3d`` (L, 25, 3) (zeros when absent) and ``has_labels`` (bool). ``flip`` mirrors at random
@@ -70,13 +71,14 @@ class WindowDataset(torch.utils.data.Dataset):
     """
 
     def __init__(self, clips: list[LiftingClip], receptive_field: int, out_frames: int = 16, flip: bool = True,
-                 seed: int = 0):
+                 seed: int = 0, stride: int = 2):
         if not clips:
             raise HDVRError("no training clips")
         self.clips, self.rf, self.out_frames, self.flip = clips, receptive_field, out_frames, flip
         self.seed = seed
         self.epoch = 0
-        self.index = [(c, s) for c, clip in enumerate(clips) for s in range(0, clip.inputs.shape[0], out_frames)]
+        # overlapping windows (a new one every ``stride`` frames): many more optimisation steps per epoch
+        self.index = [(c, s) for c, clip in enumerate(clips) for s in range(0, clip.inputs.shape[0], stride)]
 
     def __len__(self) -> int:
         return len(self.index)

@@ -27,6 +27,7 @@ class TrainConfig:
     epochs: int = 40
     batch_size: int = 128
     out_frames: int = 16
+    window_stride: int = 2  # frames between training window starts
     learning_rate: float = 1e-3
     lr_decay: float = 0.95  # per epoch
     weight_reprojection: float = 1.0
@@ -74,7 +75,7 @@ def train_lifter(clips: list[LiftingClip], model_cfg: LifterConfig | None = None
     torch.manual_seed(cfg.seed)
     device = pick_device(cfg.device)
     model = TemporalLifter(model_cfg).to(device)
-    data = WindowDataset(clips, model.receptive_field, cfg.out_frames, cfg.flip, cfg.seed)
+    data = WindowDataset(clips, model.receptive_field, cfg.out_frames, cfg.flip, cfg.seed, cfg.window_stride)
     generator = torch.Generator().manual_seed(cfg.seed)
     loader = torch.utils.data.DataLoader(data, batch_size=cfg.batch_size, shuffle=True, generator=generator,
                                          drop_last=len(data) > cfg.batch_size)
