@@ -40,9 +40,9 @@ def write_text_atomic(path: str | os.PathLike, text: str) -> None:
         tmp.write_text(text, encoding="utf-8")
 
 
-def save_npz_atomic(path: str | os.PathLike, **arrays) -> None:
-    """``np.savez_compressed`` to ``path`` atomically."""
+def save_npz_atomic(path: str | os.PathLike, compress: bool = True, **arrays) -> None:
+    """``np.savez_compressed`` (or ``np.savez`` with ``compress=False``, faster to write) to ``path`` atomically."""
     import numpy as np
 
     with atomic_path(path, suffix=".npz") as tmp:
-        np.savez_compressed(tmp, **arrays)
+        (np.savez_compressed if compress else np.savez)(tmp, **arrays)

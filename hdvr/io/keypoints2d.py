@@ -79,9 +79,9 @@ class Keypoints2D:
         return float((self.keypoints[..., 2] > 0).mean()) if self.keypoints.size else 0.0
 
 
-def save_keypoints2d(path: str | os.PathLike, kp: Keypoints2D) -> None:
-    """Write ``kp`` to ``path`` (NPZ, atomically)."""
-    save_npz_atomic(path, keypoints=kp.keypoints.astype(np.float32), joint_names=np.array(kp.joint_names),
+def save_keypoints2d(path: str | os.PathLike, kp: Keypoints2D, compress: bool = True) -> None:
+    """Write ``kp`` to ``path`` (NPZ, atomically; ``compress=False`` writes faster, larger files)."""
+    save_npz_atomic(path, compress, keypoints=kp.keypoints.astype(np.float32), joint_names=np.array(kp.joint_names),
                     fps=np.float64(kp.fps), image_size=np.array(kp.image_size, dtype=np.int64))
 
 

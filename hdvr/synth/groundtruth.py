@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from hdvr.io.atomic import atomic_path, write_text_atomic
-from hdvr.io.keypoints2d import Keypoints2D
+from hdvr.io.atomic import save_npz_atomic, write_text_atomic
+from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
 from hdvr.layouts import BODY25_NAMES
 from hdvr.movements.labeller import Labels
 from hdvr.movements.taxonomy import load_taxonomy
@@ -191,7 +191,8 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
     boxes = keypoint_boxes(kp2d, kp_cam, (vis > 0).any(-1), intr, spec.size)
     labels = np.stack([d.labels for d in dancers])
     track_ids = np.arange(1, n + 1, dtype=np.int32)
-    _save_npz_plain(folder / "gt.npz", qpos=np.stack([d.qpos for d in dancers]),
+    # uncompressed: compression costs more than the whole motion generation
+    save_npz_atomic(folder / "gt.npz", False, qpos=np.stack([d.qpos for d in dancers]),
                     keypoints3d_world=kp_world.astype(np.float32), keypoints3d_camera=kp_cam.astype(np.float32),
                     keypoints2d=kp2d.astype(np.float32), visibility=vis, boxes=boxes.astype(np.float32),
                     track_ids=track_ids, labels=labels, camera_rotation=cam.rotation, camera_centre=cam.centre,
@@ -203,9 +204,7 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
         conf = np.select([vis[k] == VISIBLE, vis[k] > 0], [1.0, 0.5], 0.0)
         arr = np.concatenate([kp2d[k], conf[..., None]], axis=-1).astype(np.float32)
         kp2 = Keypoints2D(arr, BODY25_NAMES, spec.fps, spec.size)  # validates the 2D keypoint contract
-        _save_npz_plain(folder / f"dancer_{k}.keypoints2d.npz", keypoints=kp2.keypoints,
-                        joint_names=np.array(kp2.joint_names), fps=np.float64(kp2.fps),
-                        image_size=np.array(kp2.image_size, dtype=np.int64))
+        save_keypoints2d(folder / f"dancer_{k}.keypoints2d.npz", kp2, compress=False)
     vis_frac = (vis == VISIBLE).mean(-1)
     lines = [f"{t + 1},{track_ids[k]},{boxes[k, t, 0]:.2f},{boxes[k, t, 1]:.2f},{boxes[k, t, 2]:.2f},"
              f"{boxes[k, t, 3]:.2f},1,1,{vis_frac[k, t]:.3f}"
@@ -238,12 +237,6 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
             "stage": {"floor_texture": stage.floor_kind, "wall_texture": stage.wall_kind, "lights": len(stage.lights)}}
     write_text_atomic(folder / "meta.json", json.dumps(meta, indent=1))
     return meta
-
-
-def _save_npz_plain(path: Path, **arrays) -> None:
-    """Uncompressed NPZ, atomically (compression costs more than the whole motion generation)."""
-    with atomic_path(path, suffix=".npz") as tmp:
-        np.savez(tmp, **arrays)
 
 
 def is_done(out_dir: str | os.PathLike, spec: ClipSpec, render: bool) -> bool:
