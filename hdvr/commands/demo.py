@@ -58,7 +58,7 @@ def score_against_ground_truth(clip_dir: Path, result) -> dict:
     from hdvr.io.result3d import load_result3d
     from hdvr.metrics import evaluate
     from hdvr.tracking.boxes import read_mot
-    from hdvr.tracking.evaluation import _iou_matrix, evaluate_tracking
+    from hdvr.tracking.evaluation import iou_matrix, evaluate_tracking
 
     gt = np.load(clip_dir / "gt.npz")
     gt_boxes = np.transpose(gt["boxes"], (1, 0, 2))  # (T, M, 4)
@@ -67,7 +67,7 @@ def score_against_ground_truth(clip_dir: Path, result) -> dict:
     for d in result.dancers:
         if d.result3d is None:
             continue
-        overlap = [np.nanmean([_iou_matrix(g[None, m], t[None, d.index])[0, 0]
+        overlap = [np.nanmean([iou_matrix(g[None, m], t[None, d.index])[0, 0]
                                for g, t in zip(gt_boxes, tracked)]) for m in range(gt_boxes.shape[1])]
         match = int(np.nanargmax(overlap))
         fit = load_result3d(d.result3d)

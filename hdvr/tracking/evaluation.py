@@ -34,7 +34,7 @@ class TrackingScores:
                 "recall": self.recall, "precision": self.precision, "frames": self.frames}
 
 
-def _iou_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+def iou_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """IoU between (n, 4) and (m, 4) (x, y, w, h) boxes."""
     if len(a) == 0 or len(b) == 0:
         return np.zeros((len(a), len(b)))
@@ -68,7 +68,7 @@ def evaluate_tracking(gt_boxes: np.ndarray, tracked_boxes: np.ndarray, iou_thres
         pi = np.flatnonzero(np.isfinite(p).all(axis=1))
         data["gt_ids"].append(gi.astype(int))
         data["tracker_ids"].append(pi.astype(int))
-        data["similarity_scores"].append(_iou_matrix(g[gi], p[pi]))
+        data["similarity_scores"].append(iou_matrix(g[gi], p[pi]))
         data["num_gt_dets"] += len(gi)
         data["num_tracker_dets"] += len(pi)
     config = {"THRESHOLD": iou_threshold, "PRINT_CONFIG": False}
