@@ -31,3 +31,27 @@ def one_torch_thread():
     torch.set_num_threads(1)
     yield
     torch.set_num_threads(threads)
+
+
+@pytest.fixture(scope="session")
+def salsa_view(shared_data):
+    """``view(take, start, stop, azimuth_deg)`` -> (Keypoints2D, camera-frame mocap (T, 25, 3) m): a CMU salsa
+    lead-dancer clip (30 fps) seen by a 1920x1080 camera, focal 1500 px, 5 m away, 10 deg elevation."""
+    import numpy as np
+
+    from hdvr.camera import orbit_camera, project
+    from hdvr.io.bvh import load_mocap_body25
+    from hdvr.io.keypoints2d import Keypoints2D
+    from hdvr.layouts import BODY25_NAMES
+
+    def view(take: str, start: int, stop: int, azimuth_deg: float):
+        pos, _ = load_mocap_body25(shared_data / "cmu-salsa" / f"60_{take}_scaled.bvh", fps=30)
+        clip = pos[start:stop]
+        cam = orbit_camera(5.0, azimuth_deg, 10.0, target=(*clip[:, 8, :2].mean(axis=0), 1.0))
+        gt = cam.to_camera(clip)
+        uv = project(gt, 1500.0, (960.0, 540.0))
+        kp = Keypoints2D(np.concatenate([uv, np.ones(uv.shape[:2] + (1,))], axis=-1), BODY25_NAMES, 30.0,
+                         (1920, 1080))
+        return kp, gt
+
+    return view

@@ -10,13 +10,11 @@ import sys
 import numpy as np
 import pytest
 
-from hdvr.camera import orbit_camera, project
 from hdvr.errors import HDVRError
 from hdvr.fitting.calibration import bones_from_projections
 from hdvr.fitting.kinematics import DancerKinematics
 from hdvr.fitting.presets import FitSettings, paper_settings
 from hdvr.fitting.sequence import fit_keypoints
-from hdvr.io.bvh import load_mocap_body25
 from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
 from hdvr.io.result3d import load_result3d
 from hdvr.layouts import BODY25_NAMES, COCO17_NAMES, convert
@@ -29,14 +27,8 @@ PP = (960.0, 540.0)
 
 
 @pytest.fixture(scope="module")
-def salsa(shared_data):
-    pos, _ = load_mocap_body25(shared_data / "cmu-salsa" / "60_01_scaled.bvh", fps=30)
-    clip = pos[5:65]
-    cam = orbit_camera(5.0, 30.0, 10.0, target=(*clip[:, 8, :2].mean(axis=0), 1.0))
-    gt = cam.to_camera(clip)
-    uv = project(gt, FOCAL, PP)
-    kp = Keypoints2D(np.concatenate([uv, np.ones(uv.shape[:2] + (1,))], axis=-1), BODY25_NAMES, 30.0, (1920, 1080))
-    return kp, gt
+def salsa(salsa_view):
+    return salsa_view("01", 5, 65, 30.0)
 
 
 def test_fit_with_given_focal_is_close_and_plausible(salsa):

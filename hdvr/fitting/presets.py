@@ -66,7 +66,7 @@ class FitSettings:
     # -- weights (residual = weight * quantity) --------------------------------------------------------------
     velocity_weight_3d: float = 0.0  # per metre of keypoint motion between frames (paper: beta alpha)
     velocity_weight_2d: float = 0.0  # per pixel (paper: alpha)
-    acceleration_weight_3d: float = 60.0  # per metre of second difference
+    acceleration_weight_3d: float = 20.0  # per metre of second difference
     hinge_velocity_weight: float = 2.0  # per radian between frames
     penetration_weight: float = 3000.0  # per metre below the floor
     skate_weight: float = 100.0  # per metre of sliding while in contact
@@ -75,6 +75,9 @@ class FitSettings:
     max_iter: int = 8
     refine_iter: int = 3
     random_seed: int = 0
+    # -- execution (results depend on chunk_frames, never on workers) -----------------------------------------
+    chunk_frames: int = 900  # clips longer than 1.5 chunks are fitted in overlapping chunks (hdvr.fitting.chunks)
+    workers: int | None = None  # processes fitting chunks at once; None = the CPU cores available
 
     def __post_init__(self) -> None:
         if self.delta < 0 or self.seeds < 1:

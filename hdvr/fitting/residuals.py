@@ -27,7 +27,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hdvr.camera import projection_jacobian
 from hdvr.fitting.kinematics import NUM_TANGENT, DancerKinematics, qpos_from_tangent
 
 FOOT_KEYPOINTS = np.array([19, 20, 21, 22, 23, 24])  # BODY_25 toes and heels
@@ -133,14 +132,14 @@ class FrameProblem:
         z = np.maximum(kp[:, 2:3], 1e-3)
         return f * kp[:, :2] / z + self.principal_point
 
-    def _robust_scale(self, e: np.ndarray) -> np.ndarray:
-        """(V, 1) factor turning the scaled error e (V, 2) into a robust residual."""
+    def _robust_scale(self, e: np.ndarray) -> np.ndarray | float:
+        """(V, 1) factor turning the scaled error e (V, 2) into a robust residual (1.0 without a robust loss)."""
         if not self.robust_px:
-            return np.ones((e.shape[0], 1))
+            return 1.0
         c2 = (self.robust_px / self.sigma_px) ** 2
-        s = np.sum(e * e, axis=1, keepdims=True)
-        rho = c2 * np.log1p(s / c2)
-        return np.sqrt(np.where(s > 1e-12, rho / np.maximum(s, 1e-12), 1.0))
+        s = (e[:, 0] * e[:, 0] + e[:, 1] * e[:, 1])[:, None]
+        safe = np.maximum(s, 1e-12)
+        return np.sqrt(np.where(s > 1e-12, c2 * np.log1p(safe / c2) / safe, 1.0))
 
     def _evaluate(self, params: np.ndarray, with_jacobian: bool):
         x, f = self.split(params)
@@ -192,6 +191,12 @@ class FrameProblem:
         tangential = np.eye(3) - np.outer(fl.normal, fl.normal)
         return fl.skate_weight * self._skate_mask(fl)[:, None] * ((feet - fl.previous_feet) @ tangential)
 
+    def residual_vector(self, params: np.ndarray) -> np.ndarray:
+        """(m,) residuals at one parameter vector (the LM solver's hot path)."""
+        x, f, kp, _ = self._evaluate(params, False)
+        parts = self._residuals(x, f, kp)
+        return np.concatenate(list(parts.values())) if len(parts) > 1 else parts["reprojection"]
+
     # solver interface (mujoco.minimize.least_squares: x shaped (n, k), residual (m, k)) ----------------------
     def residual(self, params: np.ndarray) -> np.ndarray:
         p = np.asarray(params, dtype=np.float64)
@@ -210,15 +215,18 @@ class FrameProblem:
         # reprojection
         vis = self.visible
         pv = kp[vis]
-        z = np.maximum(pv[:, 2], 1e-3)
-        dproj = projection_jacobian(np.column_stack([pv[:, :2], z]), f)
-        proj = f * pv[:, :2] / z[:, None] + self.principal_point
+        inv_z = 1.0 / np.maximum(pv[:, 2], 1e-3)
+        uv = pv[:, :2] * inv_z[:, None]  # normalised image coordinates
+        proj = f * uv + self.principal_point
         e = (proj - self._obs) * self._sqrt_w
-        scale = self._robust_scale(e) * self._sqrt_w
+        scale = self._robust_scale(e) * self._sqrt_w * f  # (V, 2): pixels per normalised unit, robust, weighted
+        jv = jac[vis]
+        # d(u, v)/dP = f / z [[1, 0, -u], [0, 1, -v]] (pinhole; same as hdvr.camera.projection_jacobian)
+        dxy = (jv[:, :2, :] - uv[:, :, None] * jv[:, 2:3, :]) * inv_z[:, None, None]
         block = np.zeros((len(vis), 2, n))
-        block[:, :, :NUM_TANGENT] = np.einsum("vij,vjk->vik", dproj, jac[vis]) * scale[:, :, None]
+        block[:, :, :NUM_TANGENT] = dxy * scale[:, :, None]
         if self.estimate_focal:
-            block[:, :, NUM_TANGENT] = (proj - self.principal_point) * scale
+            block[:, :, NUM_TANGENT] = uv * scale
         blocks.append(block.reshape(-1, n))
         if self.terms3d:
             for t in self.terms3d:

@@ -11,6 +11,8 @@ Pipeline of :func:`fit_keypoints`:
 5. Refinement (``refine_sweeps``): Gauss-Seidel sweeps over the clip, each frame re-solved against its fixed
    neighbours with second differences on both sides (so windows leave no seams) and, with ``physics``, floor
    penetration and foot-skating terms for the floor estimated from the unrefined fit.
+   Steps 4-5 run per chunk of ``chunk_frames`` frames, chunks in parallel worker processes, stitched where
+   neighbouring chunks agree and re-refined around each seam (:mod:`hdvr.fitting.chunks`).
 6. Floor plane and camera pose (:mod:`hdvr.fitting.floor`); qpos re-expressed in the floor world.
 
 Memory: per-frame arrays only (qpos, keypoints, focal), O(T) with ~1 kB per frame; every solve is one frame.
@@ -18,13 +20,16 @@ Memory: per-frame arrays only (qpos, keypoints, focal), O(T) with ~1 kB per fram
 
 from __future__ import annotations
 
+import os
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Callable
 
 import numpy as np
 
 from hdvr.errors import HDVRError
 from hdvr.fitting.blas import single_threaded_blas
+from hdvr.fitting.chunks import chunk_spans, run_chunks, seam_frame
 from hdvr.fitting.calibration import bones_from_projections, calibrate_from_poses, stature_scaled_bones
 from hdvr.fitting.floor import Floor, camera_pose_in_world, estimate_floor, qpos_to_world
 from hdvr.fitting.intrinsics import initial_intrinsics
@@ -40,6 +45,7 @@ from hdvr.progress import progress
 from hdvr.skeleton import Skeleton
 
 CALIBRATION_SPAN = 300  # frames of the quick calibration track (10 s at 30 fps)
+SEAM_REFINE = 6  # frames each side of a chunk seam that are re-solved after stitching
 
 
 @dataclass
@@ -73,13 +79,19 @@ def observation_weights(kp: Keypoints2D, settings: FitSettings) -> tuple[np.ndar
     return xy, weights
 
 
-def refine(fitter: WindowFitter, track: Track, settings: FitSettings, floor: Floor | None, desc: str = "refine"
+def refine(fitter: WindowFitter, track: Track, settings: FitSettings, floor: Floor | None, desc: str = "refine",
+           frames: range | None = None, sweeps: int | None = None, tick: Callable[[int], None] | None = None
            ) -> Track:
-    """Gauss-Seidel sweeps: each frame re-solved with two-sided second differences (and floor terms)."""
+    """Gauss-Seidel sweeps: each frame re-solved with two-sided second differences (and floor terms).
+
+    ``frames``: the frames to re-solve (default all; the others stay fixed and act as neighbours); ``sweeps``:
+    default ``settings.refine_sweeps``; ``tick(k)``: progress callback (frames done)."""
     n = len(track.qpos)
-    for sweep in range(settings.refine_sweeps):
-        with progress(total=n, desc=f"{desc} {sweep + 1}/{settings.refine_sweeps}") as bar:
-            for t in range(n):
+    frames = range(n) if frames is None else range(max(0, frames.start), min(n, frames.stop))
+    sweeps = settings.refine_sweeps if sweeps is None else sweeps
+    for sweep in range(sweeps):
+        with progress(total=len(frames), desc=f"{desc} {sweep + 1}/{sweeps}") as bar:
+            for t in frames:
                 prev = [j for j in (t - 1, t - 2) if j >= 0]
                 nxt = [j for j in (t + 1, t + 2) if j < n]
                 floor_terms = None
@@ -95,7 +107,65 @@ def refine(fitter: WindowFitter, track: Track, settings: FitSettings, floor: Flo
                 track.keypoints[t] = fitter.kin.keypoints(q)
                 track.cost[t] = cost
                 bar.update(1)
+                if tick is not None:
+                    tick(1)
     return track
+
+
+def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, focal: float, pp: np.ndarray,
+                settings: FitSettings, estimate_focal: bool) -> tuple[Track, int]:
+    """Windows + refinement over the whole clip, chunk by chunk (:mod:`hdvr.fitting.chunks`), stitched.
+
+    Returns the track (camera frame) and the number of re-initialised windows."""
+    n = len(obs)
+    spans = chunk_spans(n, settings.chunk_frames)
+    per_frame = 1 + max(settings.refine_sweeps, 0)
+
+    def work(i: int, tick: Callable[[int], None]):
+        c = spans[i]
+        chunk_settings = replace(settings, random_seed=settings.random_seed + 7919 * i)
+        fitter = WindowFitter(kin, obs[c.start:c.stop], weights[c.start:c.stop], focal, pp, chunk_settings,
+                              estimate_focal)
+        track = fitter.fit(tick=tick)
+        if settings.refine_sweeps > 0:
+            track = refine(fitter, track, settings, estimate_floor(track.keypoints), tick=tick)
+        return track, fitter.reinit_count
+
+    with progress(total=n * per_frame + sum(c.nominal_start - c.start for c in spans) * per_frame,
+                  desc="fit3d") as bar:
+        results = run_chunks(work, len(spans), resolve_workers(settings.workers), on_progress=bar.update)
+    track, reinit = results[0][0], results[0][1]
+    if len(spans) == 1:
+        return track, reinit
+    full = Track(np.zeros((n, 41)), np.zeros((n, 25, 3)), np.zeros(n), np.zeros(n), np.zeros((n, 9)))
+    seams = []
+    for c, (part, count) in zip(spans, results):
+        reinit += count if c.start else 0
+        if c.start == 0:
+            first = 0
+        else:
+            shared = slice(c.start, c.nominal_start)
+            first = seam_frame(full.keypoints[shared], part.keypoints[:c.nominal_start - c.start], c.start)
+            seams.append(first)
+        for name in ("qpos", "keypoints", "focal", "cost", "bones"):
+            getattr(full, name)[first:c.stop] = getattr(part, name)[first - c.start:]
+    if settings.refine_sweeps > 0:  # smooth what is left of the step at each seam
+        fitter = WindowFitter(kin, obs, weights, focal, pp, settings, estimate_focal)
+        floor = estimate_floor(full.keypoints)
+        for s in seams:
+            refine(fitter, full, settings, floor, desc="seam", frames=range(s - SEAM_REFINE, s + SEAM_REFINE),
+                   sweeps=settings.refine_sweeps + 1)
+    return full, reinit
+
+
+def resolve_workers(workers: int | None) -> int:
+    """Worker processes for :func:`fit_chunked`: ``workers``, or the CPU cores this process may use."""
+    if workers is not None:
+        return max(1, int(workers))
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not on Linux
+        return max(1, os.cpu_count() or 1)
 
 
 def fit_keypoints(kp: Keypoints2D, settings: FitSettings | None = None, skeleton: Skeleton | None = None
@@ -140,17 +210,10 @@ def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skel
     report.seconds["calibration"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
+    track, report.reinitialisations = fit_chunked(kin, obs, weights, focal, pp, settings, estimate_focal)
     fitter = WindowFitter(kin, obs, weights, focal, pp, settings, estimate_focal)
-    track = fitter.fit()
-    report.reinitialisations = fitter.reinit_count
-    report.seconds["windows"] = time.perf_counter() - clock
-
-    clock = time.perf_counter()
     floor = estimate_floor(track.keypoints)
-    if settings.refine_sweeps > 0:
-        track = refine(fitter, track, settings, floor)
-        floor = estimate_floor(track.keypoints)
-    report.seconds["refinement"] = time.perf_counter() - clock
+    report.seconds["windows_and_refinement"] = time.perf_counter() - clock
 
     rotation, centre = camera_pose_in_world(floor, track.keypoints[0][BODY25_NAMES.index("mid_hip")])
     qpos_world = qpos_to_world(track.qpos, rotation, centre)

@@ -79,20 +79,29 @@ def projected_lm(residual, jacobian, x0: np.ndarray, lo: np.ndarray, hi: np.ndar
         at_lo = (x <= lo + 1e-12) & (grad > 0)
         at_hi = (x >= hi - 1e-12) & (grad < 0)
         free = ~(at_lo | at_hi)
-        h = hess[np.ix_(free, free)]
-        g = grad[free]
-        diag = np.diag(h).copy()
+        if free.all():
+            h, g = hess, grad
+        else:
+            h = hess[np.ix_(free, free)]
+            g = grad[free]
+        diag = h.diagonal().copy()
         floor = 1e-9 * max(float(diag.max(initial=0.0)), 1e-12)
         improved = False
+        base = np.maximum(diag, floor)
+        idx = np.arange(len(diag))
         for _ in range(8):
-            a = h + np.diag(lam * np.maximum(diag, floor) + floor)
+            a = h.copy()
+            a[idx, idx] += lam * base + floor
             try:
                 step = -np.linalg.solve(a, g)
             except np.linalg.LinAlgError:
                 lam *= 4.0
                 continue
             x_new = x.copy()
-            x_new[free] += step
+            if free.all():
+                x_new += step
+            else:
+                x_new[free] += step
             np.clip(x_new, lo, hi, out=x_new)
             r_new = residual(x_new)
             cost_new = float(r_new @ r_new)
@@ -118,7 +127,7 @@ def solve_frame(problem: FrameProblem, params0: np.ndarray, bounds: tuple[np.nda
     if problem.proximal_weight > 0:
         problem.proximal_center = x0[:NUM_TANGENT].copy()
     if (solver or _solver_choice["name"]) == "lm":
-        x, cost, iters = projected_lm(lambda p: problem.residual(p)[:, 0], lambda p: problem.jacobian(p),
+        x, cost, iters = projected_lm(problem.residual_vector, problem.jacobian,
                                       x0, lo, hi, max_iter=max_iter, tolerance=tolerance)
         return FrameSolution(x, cost, iters)
     x, trace = minimize.least_squares(x0, problem.residual, bounds=(lo, hi), jacobian=problem.jacobian,

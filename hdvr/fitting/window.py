@@ -20,7 +20,9 @@ Poses are solved in the camera frame (x right, y down, z forward, metres).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
+import mujoco
 import numpy as np
 
 from hdvr.fitting.intrinsics import smooth_focal
@@ -199,8 +201,10 @@ class WindowFitter:
         return best
 
     # -- whole clip -----------------------------------------------------------------------------------------
-    def fit(self, init_qpos: np.ndarray | None = None, desc: str = "fit3d") -> Track:
-        """Fit every frame. ``init_qpos`` (T, 41): starting poses (e.g. from a previous pass) for seed 0."""
+    def fit(self, init_qpos: np.ndarray | None = None, desc: str = "fit3d",
+            tick: Callable[[int], None] | None = None) -> Track:
+        """Fit every frame. ``init_qpos`` (T, 41): starting poses (e.g. from a previous pass) for seed 0;
+        ``tick(k)``: called with the number of frames each window commits (progress from worker processes)."""
         n = len(self.obs)
         track = Track(np.zeros((n, 41)), np.zeros((n, 25, 3)), np.full(n, self.focal0), np.zeros(n),
                       np.tile(self.kin.bone_lengths, (n, 1)))
@@ -271,8 +275,14 @@ class WindowFitter:
 
 
 def extrapolate(q_last: np.ndarray, q_before: np.ndarray, gain: float = 0.5) -> np.ndarray:
-    """Damped constant-velocity prediction of the next qpos (root position and hinges; rotation kept)."""
+    """Damped constant-velocity prediction of the next qpos: root position, root rotation (``gain`` times the
+    last frame's rotation increment, so that spins are followed) and hinges."""
     q = q_last.copy()
     q[:3] += gain * (q_last[:3] - q_before[:3])
     q[7:] += gain * (q_last[7:] - q_before[7:])
+    delta = np.zeros(3)
+    mujoco.mju_subQuat(delta, np.ascontiguousarray(q_last[3:7]), np.ascontiguousarray(q_before[3:7]))
+    quat = np.array(q_last[3:7], dtype=np.float64)
+    mujoco.mju_quatIntegrate(quat, delta, gain)
+    q[3:7] = quat
     return q
