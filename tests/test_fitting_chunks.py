@@ -18,6 +18,7 @@ def test_chunk_spans_cover_the_clip_with_overlap():
     spans = chunk_spans(3000, 900, overlap=10)
     assert [(c.start, c.nominal_start, c.stop) for c in spans] == [(0, 0, 900), (890, 900, 1800), (1790, 1800, 3000)]
     assert chunk_spans(50, 0) == [chunk_spans(50, 0)[0]] and chunk_spans(50, 0)[0].stop == 50
+    assert [(c.start, c.nominal_start, c.stop) for c in chunk_spans(20, 8)] == [(0, 0, 8), (4, 8, 16), (12, 16, 20)]
 
 
 def test_seam_is_where_the_chunks_agree():

@@ -76,7 +76,7 @@ def test_cli_fits_coco17_with_missing_keypoints(salsa, tmp_path):
     save_keypoints2d(src, Keypoints2D(coco.astype(np.float32), COCO17_NAMES, 30.0, (1920, 1080)))
     out = tmp_path / "result.npz"
     proc = subprocess.run([sys.executable, "-m", "hdvr", "fit3d", str(src), "--out", str(out), "--focal", "1500",
-                           "--refine-sweeps", "1"], capture_output=True, text=True, env={"HDVR_NO_PROGRESS": "1",
+                           "--refine-sweeps", "1", "--chunk-frames", "8", "--workers", "2"], capture_output=True, text=True, env={"HDVR_NO_PROGRESS": "1",
                                                                                         **__import__("os").environ})
     assert proc.returncode == 0, proc.stderr
     summary = json.loads(proc.stdout.strip().splitlines()[-1])

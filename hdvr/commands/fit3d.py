@@ -30,6 +30,10 @@ def add_fit_arguments(p: argparse.ArgumentParser) -> None:
                    help="hinge ranges: the paper's, or widened to normal human motion (default)")
     p.add_argument("--refine-sweeps", type=int, default=None, help="sequence refinement sweeps (default 2)")
     p.add_argument("--seed", type=int, default=None, help="random seed (default 0)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="processes fitting chunks of a long clip at once (default: the CPU cores available)")
+    p.add_argument("--chunk-frames", type=int, default=None,
+                   help="frames per chunk of a long clip (default 900; results depend on it, not on --workers)")
 
 
 def settings_from_args(args: argparse.Namespace, **extra):
@@ -39,7 +43,8 @@ def settings_from_args(args: argparse.Namespace, **extra):
     overrides = {}
     for key, attr in (("delta", "delta"), ("seeds", "seeds"), ("stride", "stride"), ("focal", "focal"),
                       ("height_m", "height"), ("joint_ranges", "joint_ranges"),
-                      ("refine_sweeps", "refine_sweeps"), ("random_seed", "seed")):
+                      ("refine_sweeps", "refine_sweeps"), ("random_seed", "seed"), ("workers", "workers"),
+                      ("chunk_frames", "chunk_frames")):
         value = getattr(args, attr, None)
         if value is not None:
             overrides[key] = value

@@ -35,9 +35,11 @@ class Chunk:
 
 def chunk_spans(num_frames: int, chunk_frames: int, overlap: int = CHUNK_OVERLAP) -> list[Chunk]:
     """Chunks covering ``num_frames`` frames: nominal length ``chunk_frames``, the last one absorbing a remainder
-    shorter than half a chunk; every chunk after the first starts ``overlap`` frames before its nominal start."""
+    shorter than half a chunk; every chunk after the first starts ``overlap`` frames (at most half a chunk) before
+    its nominal start."""
     if chunk_frames <= 0 or num_frames <= chunk_frames + chunk_frames // 2:
         return [Chunk(0, num_frames, 0)]
+    overlap = min(overlap, chunk_frames // 2)
     starts = list(range(0, num_frames, chunk_frames))
     if num_frames - starts[-1] < chunk_frames // 2:
         starts.pop()
