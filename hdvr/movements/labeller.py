@@ -147,7 +147,9 @@ def body_signals(kp: np.ndarray, up=(0.0, 0.0, 1.0), flipping: np.ndarray | None
         shank = _unit(g[f"{side}_knee"] - g[f"{side}_ankle"])
         angle = np.degrees(np.arccos(np.clip(_dot(foot, shank), -1, 1)))
         lateral = _ortho(g[f"{side}_small_toe"] - g[f"{side}_big_toe"], foot)  # across the sole
-        roll_deg = np.degrees(np.arcsin(np.clip(np.abs(_dot(lateral, up)), 0, 1)))  # sole tilted sideways
+        # foot rolled on its edge: the line across the sole tilts against the shank (inversion / eversion); a
+        # foot carried by a leg lifted sideways is not rolled, so the tilt is not measured against the vertical
+        roll_deg = np.degrees(np.arcsin(np.clip(np.abs(_dot(lateral, shank)), 0, 1)))
         out[f"{side}_foot"] = PartSignals(np.zeros((T, 0)), (), (), {"angle_deg": angle, "roll_deg": roll_deg})
     return out
 
@@ -245,6 +247,52 @@ def classify_window(points: np.ndarray, fps: float, th: dict, amplitude_min: flo
     if ratio < 0.5 and n1 >= 2 and n1 <= (hi + 1) * seconds:
         return "oscillation"
     return None
+
+
+def direction_table(part: Part, component_names) -> np.ndarray:
+    """(k, 2) part-local label index for a motion component moving negative (column 0) / positive (column 1);
+    ``Unknown`` where the vocabulary has no label for that direction (e.g. the neck moving forward)."""
+    unknown = part.label("unknown").index
+    table = np.full((len(component_names), 2), unknown)
+    for k, name in enumerate(component_names):
+        for si, sign in enumerate((-1, 1)):
+            lab = part.find("direction", component=name, sign=sign)
+            if lab is not None:
+                table[k, si] = lab.index
+    return table
+
+
+def still_labels(part: Part, direction: np.ndarray | None, th: dict, frames: int = 1) -> np.ndarray:
+    """Part-local label of a part that does not move, per frame: ``Holding ...`` by the segment's unit direction
+    (T, 3) in its body frame (x front, y left, z up; arms: torso frame, legs: pelvis frame) when it is held away
+    from hanging (more than ``hold_away_from_down_deg``; High: arms above the horizontal, legs more than 60 deg
+    from straight down), else ``Keeping Still``. ``direction`` None (parts without a segment): Keeping Still in
+    each of ``frames`` frames."""
+    T = frames if direction is None else direction.shape[0]
+    out = np.full(T, part.label("still").index)
+    if direction is None:
+        return out
+    d = direction
+    away = np.degrees(np.arccos(np.clip(-d[:, 2], -1, 1))) > th["hold_away_from_down_deg"]
+    conds = {"high": d[:, 2] > (0.2 if part.measure == "limb" and "arm" in part.name else -0.5)}
+    fwd_dom = np.abs(d[:, 0]) >= np.abs(d[:, 1])
+    conds["forward"] = away & fwd_dom & (d[:, 0] > 0)
+    conds["backward"] = away & fwd_dom & (d[:, 0] <= 0)
+    conds["side"] = away & ~fwd_dom
+    for cond in ("side", "backward", "forward", "high"):  # later ones take precedence
+        lab = part.find("hold", condition=cond)
+        if lab is not None:
+            out[conds[cond]] = lab.index
+    return out
+
+
+def foot_state_labels(part: Part, extension: np.ndarray, flexion: np.ndarray, rolled: np.ndarray) -> np.ndarray:
+    """Part-local foot labels from (T,) masks: Extension / Flexion / Relaxed, Unknown where rolled on its edge."""
+    out = np.full(extension.shape[0], part.find("state", condition="relaxed").index)
+    out[extension] = part.find("state", condition="extension").index
+    out[flexion] = part.find("state", condition="flexion").index
+    out[rolled] = part.label("unknown").index
+    return out
 
 
 @dataclass
@@ -361,12 +409,7 @@ class MovementLabeller:
         motion = list(sig.motion)
         dom = np.argmax(np.abs(vel[:, motion]), axis=1)
         fast = part.find("fast")
-        table = np.full((len(motion), 2), unknown)
-        for k, ci in enumerate(motion):
-            for si, sign in enumerate((-1, 1)):
-                lab = part.find("direction", component=sig.names[ci], sign=sign)
-                if lab is not None:
-                    table[k, si] = lab.index
+        table = direction_table(part, [sig.names[ci] for ci in motion])
         dom_vel = np.take_along_axis(vel[:, motion], dom[:, None], 1)[:, 0]
         direction = table[dom, (dom_vel > 0).astype(int)]
         if fast is not None:
@@ -379,19 +422,7 @@ class MovementLabeller:
             out = self._apply_patterns(part, sig, fps, moving, out, special)
 
         still = ~moving
-        out[still] = part.label("still").index
-        if "direction" in sig.extra:
-            d = sig.extra["direction"]
-            away = np.degrees(np.arccos(np.clip(-d[:, 2], -1, 1))) > th["hold_away_from_down_deg"]
-            conds = {"high": d[:, 2] > (0.2 if part.measure == "limb" and "arm" in part.name else -0.5)}
-            fwd_dom = np.abs(d[:, 0]) >= np.abs(d[:, 1])
-            conds["forward"] = away & fwd_dom & (d[:, 0] > 0)
-            conds["backward"] = away & fwd_dom & (d[:, 0] <= 0)
-            conds["side"] = away & ~fwd_dom
-            for cond in ("side", "backward", "forward", "high"):  # later ones take precedence
-                lab = part.find("hold", condition=cond)
-                if lab is not None:
-                    out[still & conds[cond]] = lab.index
+        out[still] = still_labels(part, sig.extra.get("direction"), th, T)[still]
         return out
 
     def _apply_patterns(self, part, sig, fps, moving, out, special):
@@ -432,11 +463,7 @@ class MovementLabeller:
         extension = _hysteresis(angle, ext + hyst, ext - hyst)
         flexion = _hysteresis(-angle, -(flx - hyst), -(flx + hyst))
         rolled = _hysteresis(roll, th["foot_roll_deg"] + hyst, th["foot_roll_deg"] - hyst)
-        out = np.full(angle.shape[0], part.find("state", condition="relaxed").index)
-        out[extension] = part.find("state", condition="extension").index
-        out[flexion] = part.find("state", condition="flexion").index
-        out[rolled] = part.label("unknown").index
-        return out
+        return foot_state_labels(part, extension, flexion, rolled)
 
 
 def label_keypoints(keypoints: np.ndarray, fps: float, up=(0.0, 0.0, 1.0), patterns: bool = True) -> Labels:

@@ -9,10 +9,9 @@ shrunk by :data:`MARGIN_RAD`, is C1-smooth, and the root is placed afterwards: i
 point on the floor (z = 0), its horizontal position keeps the stance foot fixed (no skating); during a flip it
 follows a ballistic arc.
 
-Ground-truth labels: frames get the label of the primitive that produced them where the primitive defines a
-shape (circles, swings, figure 8, jitter = Unknown, somersault); directional, hold and foot-state labels come
-from the taxonomy's rules applied to the generator's exact, noise-free kinematics
-(:class:`hdvr.movements.labeller.MovementLabeller` with ``patterns=False, smooth=False``).
+Ground-truth labels are declared by the primitives themselves (:mod:`hdvr.synth.declare`): every primitive is
+recorded as an :class:`~hdvr.synth.declare.Intent` (group, kind, frames) and shape primitives as
+:class:`Declared` spans; the labels follow from those and the planned trajectories, not from the labeller.
 """
 
 from __future__ import annotations
@@ -23,9 +22,10 @@ import numpy as np
 from scipy.ndimage import maximum_filter1d, uniform_filter1d
 
 from hdvr import dh
-from hdvr.movements.labeller import MovementLabeller, _runs
+from hdvr.movements.labeller import _runs
 from hdvr.movements.taxonomy import load_taxonomy
 from hdvr.skeleton import ROOT_QPOS, Skeleton
+from hdvr.synth.declare import Intent, declared_labels
 from hdvr.synth.genres import GenreStyle, genre_style
 
 MARGIN_RAD = 0.05
@@ -94,7 +94,8 @@ class Declared:
 @dataclass
 class Choreography:
     """One dancer's motion. ``qpos`` (T, 41) world; ``keypoints`` (T, 25, 3) world metres; ``labels`` (T, 16) global
-    label ids; ``airborne`` (T,) bool (flip frames); ``primitives`` list of (group, kind, start, end)."""
+    label ids declared by the primitives; ``airborne`` (T,) bool (flip frames); ``primitives`` list of
+    :class:`~hdvr.synth.declare.Intent`; ``declared`` list of :class:`Declared` shape spans."""
 
     genre: str
     fps: float
@@ -126,7 +127,6 @@ class ChoreographyGenerator:
         self.sk = skeleton or Skeleton()
         self.fps = float(fps)
         self.tax = load_taxonomy()
-        self.rule_labeller = MovementLabeller(self.tax, patterns=False, smooth=True)
 
     # ---- helpers ---------------------------------------------------------------------------------------------
     def _beat_frames(self, style: GenreStyle, bpm: float) -> float:
@@ -554,17 +554,21 @@ class ChoreographyGenerator:
         return t - t0
 
     # ---- root placement --------------------------------------------------------------------------------------
-    def _steady_head(self, h, declared, iterations=2):
-        """Neck circles and shakes tilt the neck as an Euler sequence, which also turns the head a little about
-        the neck (twice per circle). Cancel that with the neck twist, so the head holds its own direction."""
+    def _steady_head(self, h, prims, iterations=2):
+        """Neck moves, circles and shakes tilt the neck as an Euler sequence (bend, then flex), which also turns
+        the head a little about the neck (the twist of a combined tilt). Cancel that with the neck twist, so the head
+        keeps the direction its own primitives give it, as the neck primitive intends."""
         from hdvr.movements.labeller import body_signals
 
         j = JI["neck_twist"]
         tilt = _j("neck_bend", "neck_flex")
-        for d in declared:
-            if d.parts != ("neck",):
+        for g, _, s, e in prims:
+            if g != "neck":
                 continue
-            s, e = d.start, min(d.end, h.shape[0])
+            e = min(e, h.shape[0])
+            if e - s < 3:
+                continue
+            s = max(s - 1, 0)
 
             def head_yaw(hinges):
                 q = np.zeros((e - s, 41))
@@ -575,8 +579,11 @@ class ChoreographyGenerator:
             still_neck = h[s:e].copy()
             still_neck[:, tilt] = h[s, tilt]  # the same head motion without the neck's shape
             reference = head_yaw(still_neck)
-            for _ in range(iterations):  # the shape's envelope starts and ends at rest: so does the correction
+            before = h[s:e, j].copy()
+            for _ in range(iterations):
                 h[s:e, j] = np.clip(h[s:e, j] - (head_yaw(h[s:e]) - reference), LOWER[j], UPPER[j])
+            # a move ends on a new tilt: its correction stays while the neck holds it (shapes end at rest: ~0)
+            h[e:, j] = np.clip(h[e:, j] + (h[e - 1, j] - before[-1]), LOWER[j], UPPER[j])
         return h
 
     def _clear_gesture_foot(self, h, stance, clearance=0.02, iterations=6):
@@ -686,7 +693,8 @@ class ChoreographyGenerator:
         prims: list = []
         for group in ("head", "neck", "trunk"):
             self._group(h, group, style, getattr(style, group), beat, rng, declared, prims, self._parts_for_shape)
-        if rng.random() < style.symmetric_arms:
+        symmetric = rng.random() < style.symmetric_arms
+        if symmetric:
             self._group(h, "left_arm", style, style.arm, beat, rng, declared, prims, self._parts_for_shape)
             _mirror_arm(h)
             declared += [Declared(d.start, d.end, tuple(p.replace("left", "right") for p in d.parts), d.label)
@@ -698,37 +706,14 @@ class ChoreographyGenerator:
         self.airtime = np.zeros(T, dtype=bool)
         self._legs(h, yaw, pitch, style, beat, rng, declared, prims)
         h = np.clip(h, LOWER, UPPER)
-        h = self._steady_head(h, declared)
+        h = self._steady_head(h, prims)
         h = self._clear_gesture_foot(h, self.stance)
         q, kp, airborne = self.place_root(h, yaw, pitch, start_xy, start_yaw, self.stance)
-        labels = self.ground_truth_labels(kp, declared)
-        return Choreography(style.name, self.fps, q, kp, labels, airborne, prims, declared, self.stance.copy())
-
-    def ground_truth_labels(self, keypoints, declared) -> np.ndarray:
-        """Rules on exact kinematics, then the primitives' declared shape labels on the frames where the part moves
-        (flips and whole-body turns found by the rules stay)."""
-        base = self.rule_labeller.label(keypoints, self.fps)
-        ids = base.ids.copy()
-        for d in declared:
-            for pname in d.parts:
-                part = self.tax.part(pname)
-                col = ids[:, part.index]
-                quiet = np.isin(col, [lab.id for lab in part.labels if lab.kind in ("hold", "still")])
-                special = np.isin(col, [lab.id for lab in part.labels if lab.kind in ("somersault", "turning")])
-                if d.label == "somersault":  # the rule on the exact kinematics marks the flip itself
-                    continue
-                if d.label == "jitter":
-                    lab = part.label("unknown")
-                else:
-                    lab = part.find("pattern", pattern=d.label)
-                    if lab is None:
-                        continue
-                # the whole moving run(s) that the shape makes (smoothing spreads a run by a frame or two)
-                for s, e, q in _runs(quiet):
-                    overlap = max(0, min(e, d.end) - max(s, d.start))
-                    if not q and overlap >= 0.5 * (e - s):
-                        col[s:e] = np.where(special[s:e], col[s:e], lab.id)
-        return ids
+        intents = [Intent("legs" if g.endswith("_leg") else g, k, s, e) for g, k, s, e in prims]
+        if symmetric:  # the right arm performs the left arm's primitives
+            intents += [Intent("right_arm", it.kind, it.start, it.end) for it in intents if it.group == "left_arm"]
+        labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps)
+        return Choreography(style.name, self.fps, q, kp, labels, airborne, intents, declared, self.stance.copy())
 
     def _mirror(self, lead: Choreography, start_xy, start_yaw) -> Choreography:
         """The partner: the lead's motion mirrored left/right (a couple facing each other moves as mirror images)."""
@@ -739,8 +724,9 @@ class ChoreographyGenerator:
         stance = np.where(lead.stance == 1, 2, np.where(lead.stance == 2, 1, 0)).astype(np.int8)
         q, kp, airborne = self.place_root(h, yaw, pitch, start_xy, start_yaw, stance)
         declared = [Declared(d.start, d.end, tuple(_swap_side(p) for p in d.parts), d.label) for d in lead.declared]
-        labels = self.ground_truth_labels(kp, declared)
-        return Choreography(lead.genre, self.fps, q, kp, labels, airborne, list(lead.primitives), declared, stance)
+        intents = [Intent(_swap_side(it.group), it.kind, it.start, it.end) for it in lead.primitives]
+        labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps)
+        return Choreography(lead.genre, self.fps, q, kp, labels, airborne, intents, declared, stance)
 
 
 def _swap_side(name: str) -> str:
