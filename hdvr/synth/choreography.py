@@ -57,6 +57,23 @@ def leg_joints(side: str) -> dict[str, int]:
                                             "ankle_invert", "toe_flex")}
 
 
+def leg_ik(x, z, l1: float, l2: float, knee_min: float):
+    """Sagittal two-link leg: hip_extend and knee_flex (rad) that put the ankle ``x`` behind and ``z`` below the
+    hip (metres; thigh ``l1``, shank ``l2``); the knee bends at least ``knee_min`` (targets out of reach are
+    pulled in). Convention: segment angles from straight down, positive backward; shank = hip_extend + knee."""
+    x, z = np.asarray(x, dtype=float), np.asarray(z, dtype=float)
+    r_max = np.sqrt(l1 * l1 + l2 * l2 + 2 * l1 * l2 * np.cos(knee_min))
+    r = np.minimum(np.hypot(x, z), r_max)
+    knee = np.arccos(np.clip((r * r - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1, 1))
+    theta = np.arctan2(x, z) - np.arctan2(l2 * np.sin(knee), l1 + l2 * np.cos(knee))
+    return theta, knee
+
+
+def leg_fk(theta, knee, l1: float, l2: float):
+    """Ankle (x behind, z below the hip; metres) of the sagittal two-link leg (inverse of :func:`leg_ik`)."""
+    return (l1 * np.sin(theta) + l2 * np.sin(theta + knee), l1 * np.cos(theta) + l2 * np.cos(theta + knee))
+
+
 def ramp_profile(n: int, ramp: float = 0.2) -> np.ndarray:
     """Progress 0 -> 1 over n frames with a trapezoidal velocity (ramps ``ramp`` of the duration each side)."""
     if n <= 1:
@@ -106,6 +123,8 @@ class Choreography:
     primitives: list = field(default_factory=list)
     declared: list = field(default_factory=list)
     stance: np.ndarray | None = None  # (T,) 0 both / automatic, 1 left foot, 2 right foot carries the weight
+    walks: list = field(default_factory=list)  # (start, end) frames of travelling phrases
+    bones: np.ndarray | None = None  # (9,) bone lengths (metres) of the dancer
 
 
 class _Track:
@@ -302,8 +321,9 @@ class ChoreographyGenerator:
         T = h.shape[0]
         L, R = leg_joints("left"), leg_joints("right")
         allj = sorted(set(L.values()) | set(R.values()))
-        kinds = list(style.legs)
-        w = np.array([style.legs[k] for k in kinds], dtype=float)
+        kinds = list(style.legs) + (["walk"] if style.walk > 0 else [])
+        w = np.array([style.legs[k] for k in kinds if k != "walk"] + ([style.walk] if style.walk > 0 else []),
+                     dtype=float)
         t = 0
         while t < T:
             cur = h[t - 1, allj].copy() if t > 0 else h[0, allj].copy()
@@ -350,6 +370,11 @@ class ChoreographyGenerator:
                 down += self._write_move(h, gj, t + up + spin + down, lifted, REST[gj], speed)
                 n = up + spin + down
                 self.stance[t:t + n] = 2 if side == "left" else 1
+            elif kind == "walk":
+                n = self._walk(h, yaw, t, style, beat, rng)
+                if n:  # the legs swing forward and back like pendulums: a swing of each leg segment
+                    declared.append(Declared(t, t + n, ("left_upper_leg", "left_lower_leg", "right_upper_leg",
+                                                        "right_lower_leg"), "oscillation"))
             elif kind == "flip":
                 n = self._flip(pitch, t, rng)
                 if n:
@@ -371,9 +396,79 @@ class ChoreographyGenerator:
             t += n
             t += self._hold(h, allj, t, max(int(beat * rng.choice([1, 2])), int(0.4 * self.fps)), h[t - 1, allj])
 
+    def _walk(self, h, yaw, t, style, beat, rng):
+        """Travelling: 3-6 steps forward or backward (inverted pendulum: the stance leg swings from in front to
+        behind while the other leg swings through with a bent knee and lands symmetrically, so both feet are on
+        the floor at each change of weight). The stance foot stays flat and pinned (:meth:`place_root` moves the
+        root over it), so the root travels 2 L sin(a) per step (L hip -> ankle, a = step angle, rad). Solo dancers
+        curve their path by pivoting the stance foot (up to ``style.curve_rad`` per step); every path turns back
+        toward the start when it would leave ``style.travel_radius_m``. Returns the frames written."""
+        T = h.shape[0]
+        legs = {"left": leg_joints("left"), "right": leg_joints("right")}
+        bones = self.sk.bone_lengths
+        leg_len = float(bones[6] + bones[7])
+        a = rng.uniform(*style.step_rad)
+        steps = int(rng.integers(3, 7))
+        full = max(int(round(beat)), int(0.4 * self.fps))
+        half = max(int(round(0.6 * full)), int(0.3 * self.fps))
+        heading = self.start_yaw + yaw[t - 1 if t else 0]
+        forward = np.array([np.cos(heading), np.sin(heading)])
+        to_home = self.home - self.pos
+        length = 2 * leg_len * np.sin(a) * steps
+        if np.linalg.norm(to_home) + length > style.travel_radius_m:  # head back toward the start
+            sign = 1.0 if forward @ to_home >= 0 else -1.0
+            want = np.arctan2(to_home[1], to_home[0]) - np.arctan2(sign * forward[1], sign * forward[0])
+            want = (want + np.pi) % (2 * np.pi) - np.pi
+            delta = float(np.clip(want / steps, -style.curve_rad, style.curve_rad))
+            if np.linalg.norm(to_home) < 0.3 and abs(forward @ to_home) < 0.1:
+                sign = float(rng.choice([-1.0, 1.0]))
+        else:
+            sign = 1.0 if rng.random() < 0.7 else -1.0
+            delta = float(rng.uniform(-style.curve_rad, style.curve_rad))
+        l1, l2 = float(bones[6]), float(bones[7])
+        k0 = float(REST[legs["left"]["knee_flex"]])
+        r_max = np.sqrt(l1 * l1 + l2 * l2 + 2 * l1 * l2 * np.cos(k0))  # hip -> ankle with the rest knee bend
+        G = legs["left"]
+        x_c, z_rest = leg_fk(REST[G["hip_extend"]], REST[G["knee_flex"]], l1, l2)  # the rest pose's ankle
+        X = r_max * np.sin(a)  # ankle in front of / behind its rest place at a weight change (m)
+        H = np.sqrt(r_max ** 2 - (abs(x_c) + X) ** 2)  # hip height above the ankles while walking (m)
+        # phases: (stance ankle's x behind its rest place at start, at end; hip height at start, at end; frames)
+        phases = ([(0.0, X, z_rest, H, half)] + [(-X, X, H, H, full)] * (steps - 1) + [(-X, 0.0, H, z_rest, half)])
+        if t + sum(ph[-1] for ph in phases) > T:
+            return 0
+        stance_side = str(rng.choice(["left", "right"]))
+        lift = rng.uniform(0.05, 0.09)  # the swinging foot's clearance at mid-swing (m)
+        t0 = t
+        for x0, x1, z0, z1, n in phases:
+            swing_side = "right" if stance_side == "left" else "left"
+            p = 0.5 - 0.5 * np.cos(np.pi * (np.arange(1, n + 1) / n))  # C1: zero speed at each weight change
+            x = sign * (x0 + (x1 - x0) * p)  # stance ankle behind the hip (m); the swing ankle mirrors it
+            z = z0 + (z1 - z0) * p
+            for side, xs, zs in ((stance_side, x_c + x, z), (swing_side, x_c - x, z - lift * np.sin(np.pi * p) ** 2)):
+                G = legs[side]
+                theta, knee = leg_ik(xs, zs, l1, l2, k0)
+                flat = REST[G["hip_extend"]] + REST[G["knee_flex"]] + REST[G["ankle_plantarflex"]]
+                h[t:t + n, G["hip_extend"]] = theta
+                h[t:t + n, G["knee_flex"]] = knee
+                h[t:t + n, G["ankle_plantarflex"]] = flat - theta - knee  # the sole stays level
+                for j in ("hip_adduct", "hip_rotate", "ankle_invert", "toe_flex"):
+                    h[t:t + n, G[j]] = REST[G[j]]
+            self.stance[t:t + n] = 1 if stance_side == "left" else 2
+            yaw[t:t + n] = yaw[t - 1 if t else 0] + delta * p
+            yaw[t + n:] = yaw[t + n - 1]
+            self.pos = self.pos + sign * (abs(x1) + abs(x0)) * np.array([np.cos(heading), np.sin(heading)])
+            heading += delta
+            t += n
+            stance_side = swing_side
+        self.walks.append((t0, t))
+        return t - t0
+
     def _turn(self, h, yaw, t, style, beat, rng):
         T = h.shape[0]
-        angle = rng.choice([-1, 1]) * rng.uniform(0.5, 1.0) * 2 * np.pi * (2 if style.name == "ballet" else 1)
+        if style.couple:  # partners turn whole turns, so they face each other again afterwards
+            angle = rng.choice([-1, 1]) * 2 * np.pi
+        else:
+            angle = rng.choice([-1, 1]) * rng.uniform(0.5, 1.0) * 2 * np.pi * (2 if style.name == "ballet" else 1)
         rate = rng.uniform(3.0, 6.0)
         full = max(int(round(self.fps * abs(angle) / rate)), 4)
         n = min(full, T - t)
@@ -465,10 +560,10 @@ class ChoreographyGenerator:
             n = 0
             if kind == "move" and rng.random() < 0.5:  # a held leg position: front, side, back or high
                 tgt = cur.copy()
-                pos = rng.choice(["front", "side", "back", "high"])
+                pos = rng.choice(["front", "side", "back", "back", "high"])
                 tgt[:4] = {"front": [0.0, -rng.uniform(0.7, 1.0), cur[2], rng.uniform(0.0, 0.1)],
                            "side": [-rng.uniform(0.6, 0.85), -rng.uniform(0.0, 0.1), cur[2], 0.0],
-                           "back": [0.0, rng.uniform(0.5, 0.75), cur[2], rng.uniform(0.0, 1.3)],
+                           "back": [0.0, rng.uniform(0.6, 0.85), cur[2], rng.uniform(0.0, 1.3)],
                            "high": [-rng.uniform(0.0, 0.3), -rng.uniform(1.6, 1.9), cur[2], rng.uniform(0.0, 0.2)]}[pos]
                 n = self._write_move(h, gj, t, cur, tgt, self._speed(style, rng))
             elif kind == "move":
@@ -704,6 +799,10 @@ class ChoreographyGenerator:
                 self._group(h, group, style, style.arm, beat, rng, declared, prims, self._parts_for_shape)
         self.stance = np.zeros(T, dtype=np.int8)
         self.airtime = np.zeros(T, dtype=bool)
+        self.home = np.asarray(start_xy, dtype=float)
+        self.pos = self.home.copy()
+        self.start_yaw = float(start_yaw)
+        self.walks = []
         self._legs(h, yaw, pitch, style, beat, rng, declared, prims)
         h = np.clip(h, LOWER, UPPER)
         h = self._steady_head(h, prims)
@@ -713,11 +812,25 @@ class ChoreographyGenerator:
         if symmetric:  # the right arm performs the left arm's primitives
             intents += [Intent("right_arm", it.kind, it.start, it.end) for it in intents if it.group == "left_arm"]
         labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps)
-        return Choreography(style.name, self.fps, q, kp, labels, airborne, intents, declared, self.stance.copy())
+        return Choreography(style.name, self.fps, q, kp, labels, airborne, intents, declared, self.stance.copy(),
+                            list(self.walks), self.sk.bone_lengths)
 
     def _mirror(self, lead: Choreography, start_xy, start_yaw) -> Choreography:
         """The partner: the lead's motion mirrored left/right (a couple facing each other moves as mirror images)."""
         h = _mirror_hinges(lead.qpos[:, ROOT_QPOS:])
+        bones_l = lead.bones if lead.bones is not None else self.sk.bone_lengths
+        bones_f = self.sk.bone_lengths
+        k0 = float(REST[JI["left_knee_flex"]])
+        scale = (bones_f[6] + bones_f[7]) / (bones_l[6] + bones_l[7])
+        for s, e in lead.walks:  # the lead walks forward, the partner facing it backward, the same distance
+            for side in ("left", "right"):
+                G = leg_joints(side)
+                flat = REST[G["hip_extend"]] + REST[G["knee_flex"]] + REST[G["ankle_plantarflex"]]
+                x, z = leg_fk(h[s:e, G["hip_extend"]], h[s:e, G["knee_flex"]], bones_l[6], bones_l[7])
+                theta, knee = leg_ik(-x, z * scale, bones_f[6], bones_f[7], k0)
+                h[s:e, G["hip_extend"]] = theta
+                h[s:e, G["knee_flex"]] = knee
+                h[s:e, G["ankle_plantarflex"]] = flat - theta - knee
         yaw = -_unwrapped_yaw(lead.qpos)
         yaw = yaw - yaw[0]
         pitch = _unwrapped_pitch(lead.qpos)
@@ -726,7 +839,8 @@ class ChoreographyGenerator:
         declared = [Declared(d.start, d.end, tuple(_swap_side(p) for p in d.parts), d.label) for d in lead.declared]
         intents = [Intent(_swap_side(it.group), it.kind, it.start, it.end) for it in lead.primitives]
         labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps)
-        return Choreography(lead.genre, self.fps, q, kp, labels, airborne, intents, declared, stance)
+        return Choreography(lead.genre, self.fps, q, kp, labels, airborne, intents, declared, stance,
+                            list(lead.walks), self.sk.bone_lengths)
 
 
 def _swap_side(name: str) -> str:
