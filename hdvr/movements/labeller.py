@@ -84,6 +84,24 @@ class PartSignals:
     extra: dict
 
 
+def _head_angles(g: dict, y_t: np.ndarray):
+    ear_mid = 0.5 * (g["left_ear"] + g["right_ear"])
+    n = _unit(ear_mid - g["neck"])
+    y_n = _ortho(y_t, n)
+    f = _in_frame(g["nose"] - ear_mid, (np.cross(y_n, n), y_n, n))
+    yaw = np.unwrap(np.arctan2(f[:, 1], f[:, 0]))
+    pitch = np.arctan2(f[:, 2], np.hypot(f[:, 0], f[:, 1]))
+    return yaw, pitch, n
+
+
+def head_yaw(kp: np.ndarray) -> np.ndarray:
+    """(T,) the head's yaw (rad) as the labeller measures it: nose - ear midpoint in the neck frame."""
+    g = {n: kp[:, J[n]] for n in ("left_ear", "right_ear", "neck", "nose", "mid_hip", "left_shoulder",
+                                  "right_shoulder")}
+    z_t = _unit(g["neck"] - g["mid_hip"])
+    return _head_angles(g, _ortho(g["left_shoulder"] - g["right_shoulder"], z_t))[0]
+
+
 def body_signals(kp: np.ndarray, up=(0.0, 0.0, 1.0), flipping: np.ndarray | None = None) -> dict[str, PartSignals]:
     """Per-part signals from BODY_25 keypoints (T, 25, 3), NaN-free; ``up`` is the frame's vertical.
 
@@ -103,12 +121,7 @@ def body_signals(kp: np.ndarray, up=(0.0, 0.0, 1.0), flipping: np.ndarray | None
     torso = (np.cross(y_t, z_t), y_t, z_t)
     out: dict[str, PartSignals] = {}
 
-    ear_mid = 0.5 * (g["left_ear"] + g["right_ear"])
-    n = _unit(ear_mid - g["neck"])
-    y_n = _ortho(y_t, n)
-    f = _in_frame(g["nose"] - ear_mid, (np.cross(y_n, n), y_n, n))
-    yaw = np.unwrap(np.arctan2(f[:, 1], f[:, 0]))
-    pitch = np.arctan2(f[:, 2], np.hypot(f[:, 0], f[:, 1]))
+    yaw, pitch, n = _head_angles(g, y_t)
     out["head"] = PartSignals(np.stack([yaw, pitch], 1), ("yaw", "pitch"), (0, 1), {})
     nt = _in_frame(n, torso)
     out["neck"] = PartSignals(np.stack([np.arctan2(nt[:, 1], nt[:, 2]), np.arctan2(nt[:, 0], nt[:, 2])], 1),

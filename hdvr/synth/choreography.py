@@ -653,7 +653,7 @@ class ChoreographyGenerator:
         """Neck moves, circles and shakes tilt the neck as an Euler sequence (bend, then flex), which also turns
         the head a little about the neck (the twist of a combined tilt). Cancel that with the neck twist, so the head
         keeps the direction its own primitives give it, as the neck primitive intends."""
-        from hdvr.movements.labeller import body_signals
+        from hdvr.movements.labeller import head_yaw as measured_yaw
 
         j = JI["neck_twist"]
         tilt = _j("neck_bend", "neck_flex")
@@ -669,7 +669,7 @@ class ChoreographyGenerator:
                 q = np.zeros((e - s, 41))
                 q[:, 3] = 1.0
                 q[:, ROOT_QPOS:] = hinges
-                return body_signals(self.sk.keypoints(q))["head"].components[:, 0]
+                return measured_yaw(self.sk.keypoints(q))
 
             still_neck = h[s:e].copy()
             still_neck[:, tilt] = h[s, tilt]  # the same head motion without the neck's shape

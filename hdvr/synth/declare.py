@@ -97,11 +97,15 @@ def plan_kinematics(sk: Skeleton, qpos: np.ndarray) -> dict:
     rot = {b: np.empty((T, 3, 3)) for b in ("torso", "pelvis")}
     rest = {b: _body_rest_rotation(sk, b) for b in rot}
     ids = sk.keypoint_site_ids
+    body_ids = [sk.model.body(b).id for b in rot]
+    xmat = np.empty((T, len(body_ids), 9))
+    data = sk.data
     for t in range(T):
         sk.kinematics(qpos[t])
-        kp[t] = sk.data.site_xpos[ids]
-        for b in rot:
-            rot[b][t] = sk.data.body(b).xmat.reshape(3, 3) @ rest[b].T
+        kp[t] = data.site_xpos[ids]
+        xmat[t] = data.xmat[body_ids]
+    for k, b in enumerate(rot):
+        rot[b] = xmat[:, k].reshape(T, 3, 3) @ rest[b].T
     return {"keypoints": kp, **rot}
 
 

@@ -96,6 +96,9 @@ def generate_motion(spec: ClipSpec):
             dancers.append(gen.generate(spec.genre, spec.seconds, rng, positions[k], yaws[k], mirror_of=dancers[k - 1]))
         else:
             dancers.append(gen.generate(spec.genre, spec.seconds, rng, positions[k], yaws[k]))
+    from hdvr.synth.scene import separate_dancers
+
+    separate_dancers(dancers, heights)  # no dancer passes through another
     return dancers, heights
 
 
@@ -220,6 +223,10 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
     violation = max(float((np.maximum(dh.LOWER - d.qpos[:, 7:], 0) + np.maximum(d.qpos[:, 7:] - dh.UPPER, 0)).max())
                     for d in dancers)
     feet = [foot_metrics(d.keypoints, d.airborne, d.fps, stance=d.stance) for d in dancers]
+    from hdvr.synth.scene import collision_model, inter_dancer_penetration
+
+    between = inter_dancer_penetration(collision_model(list(heights)), np.stack([d.qpos for d in dancers])) \
+        if n > 1 else np.zeros((1, 1))
     frames = T
     meta = {"format_version": FORMAT_VERSION, "clip": spec.name, "index": spec.index, "seed": spec.seed,
             "genre": spec.genre, "n_dancers": n, "frames": frames, "fps": spec.fps, "seconds": spec.seconds,
@@ -227,6 +234,7 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
             "focal_px": float(intr.focal), "joint_limit_violation_rad": violation,
             "foot_penetration_m": max(f["penetration_m"] for f in feet),
             "foot_skate_max_m_s": max(f["skate_max_m_s"] for f in feet),
+            "inter_dancer_penetration_m": float(between.max()),
             "visible_fraction": float((vis == VISIBLE).mean()),
             "motion_seconds": t_motion, "render_seconds": render_seconds,
             "render_fps": T / render_seconds if render_seconds > 0 else None,

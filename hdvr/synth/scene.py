@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -188,3 +189,82 @@ def place_dancers(rng: np.random.Generator, n: int, couple: bool) -> tuple[list[
         positions.append(off * lateral + forward * rng.uniform(-0.7, 0.7))
         yaws.append(base_yaw + rng.uniform(-0.4, 0.4))
     return positions, yaws
+
+
+def collision_model(heights_m: list[float]):
+    """A MuJoCo model of the dancers' body geoms (capsules, spheres) in which only geoms of different dancers
+    collide (dancer i: contype bit i, conaffinity all other bits), for measuring inter-dancer penetration.
+    Cached per tuple of heights (the model is read-only here)."""
+    return _collision_model(tuple(float(h) for h in heights_m))
+
+
+@lru_cache(maxsize=8)
+def _collision_model(heights_m: tuple):
+    import mujoco
+
+    root = ET.Element("mujoco", model="hdvr_collide")
+    ET.SubElement(root, "compiler", angle="radian", autolimits="true")
+    world = ET.SubElement(root, "worldbody")
+    n = len(heights_m)
+    everyone = (1 << n) - 1
+    for i, height in enumerate(heights_m):
+        pelvis = ET.fromstring(build_mjcf(height)).find("worldbody/body")
+        for el in pelvis.iter():
+            if "name" in el.attrib:
+                el.set("name", f"d{i}_" + el.get("name"))
+            if el.tag == "geom":
+                el.set("contype", str(1 << i))
+                el.set("conaffinity", str(everyone & ~(1 << i)))
+            if el.tag == "site":
+                el.attrib.pop("name", None)
+        world.append(pelvis)
+    return mujoco.MjModel.from_xml_string(ET.tostring(root, encoding="unicode"))
+
+
+def inter_dancer_penetration(model, qpos: np.ndarray, stride: int = 1) -> np.ndarray:
+    """(N, N) deepest penetration (metres, >= 0) between the geoms of each pair of dancers over the frames of
+    ``qpos`` (N, T, 41) (every ``stride``-th frame)."""
+    import mujoco
+
+    data = mujoco.MjData(model)
+    n, T = qpos.shape[:2]
+    body_dancer = np.array([int(model.body(b).name[1:model.body(b).name.index("_")]) if b else -1
+                            for b in range(model.nbody)])
+    geom_dancer = body_dancer[model.geom_bodyid]
+    out = np.zeros((n, n))
+    flat = np.concatenate(list(qpos), axis=1)  # (T, N * 41)
+    for t in range(0, T, stride):
+        data.qpos[:] = flat[t]
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_collision(model, data)
+        if data.ncon == 0:
+            continue
+        con = data.contact
+        depth = -np.asarray(con.dist)
+        a, b = geom_dancer[np.asarray(con.geom1)], geom_dancer[np.asarray(con.geom2)]
+        np.maximum.at(out, (a, b), depth)
+        np.maximum.at(out, (b, a), depth)
+    return np.maximum(out, 0.0)
+
+
+def separate_dancers(dancers, heights_m, limit_m: float = 0.002, step_m: float = 0.05, max_rounds: int = 40):
+    """Move whole dancers apart (a horizontal translation of their motion: feet stay pinned, labels unchanged)
+    until no pair's geoms penetrate more than ``limit_m``: the later dancer of a penetrating pair moves away from
+    the other along the line between their mean positions, ``step_m`` plus the depth at a time. Returns the
+    final (N, N) penetration matrix (metres)."""
+    model = collision_model(list(heights_m))
+    n = len(dancers)
+    for _ in range(max_rounds):
+        pen = inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride=2)
+        if n < 2 or pen.max() <= limit_m:
+            break
+        for i in range(n):
+            for j in range(i + 1, n):
+                if pen[i, j] <= limit_m:
+                    continue
+                away = dancers[j].qpos[:, :2].mean(0) - dancers[i].qpos[:, :2].mean(0)
+                away = away / max(np.linalg.norm(away), 1e-6) if np.linalg.norm(away) > 1e-6 else np.array([1.0, 0])
+                shift = (step_m + pen[i, j]) * away
+                dancers[j].qpos[:, :2] += shift
+                dancers[j].keypoints[..., :2] += shift
+    return inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride=1)
