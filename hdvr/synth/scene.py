@@ -20,6 +20,8 @@ from hdvr.dancer_model import build_mjcf
 
 SKIN_TONES = np.array([[0.96, 0.80, 0.69], [0.87, 0.67, 0.52], [0.76, 0.57, 0.42], [0.55, 0.38, 0.26],
                        [0.40, 0.27, 0.18], [0.93, 0.75, 0.60]])
+HAIR_TONES = np.array([[0.08, 0.06, 0.05], [0.25, 0.15, 0.08], [0.45, 0.3, 0.15], [0.7, 0.55, 0.3],
+                       [0.3, 0.3, 0.3]])
 TOP_BODIES = ("torso", "neck_geom_never", "left_upper_arm", "right_upper_arm")
 BOTTOM_BODIES = ("pelvis", "left_thigh", "right_thigh", "left_shank", "right_shank")
 SHOE_BODIES = ("left_foot", "right_foot", "left_toes", "right_toes")
@@ -37,6 +39,8 @@ class DancerLook:
     bottom_kind: str
     skin_rgb: tuple
     shoe_rgb: tuple
+    hair_rgb: tuple = (0.1, 0.07, 0.05)
+    skirt: bool = False  # a skirt over the thighs (bottom material)
 
 
 @dataclass
@@ -73,12 +77,17 @@ def random_looks(rng: np.random.Generator, n: int) -> list[DancerLook]:
     rng.shuffle(bottoms)
     looks = []
     for i in range(n):
+        skin = SKIN_TONES[rng.integers(len(SKIN_TONES))] * rng.uniform(0.9, 1.05)
+        for c in (tops, bottoms):  # clothing must not read as bare skin
+            if np.abs(c[i] - skin).max() < 0.3:
+                c[i] = c[i] * 0.35
         looks.append(DancerLook(
             tuple(tops[i]), tuple(np.clip(tops[i] * rng.uniform(0.3, 0.7) + rng.uniform(0, 0.3), 0, 1)),
             str(rng.choice(["flat", "checker", "gradient"])), tuple(bottoms[i]),
             tuple(np.clip(bottoms[i] * rng.uniform(0.3, 0.7), 0, 1)), str(rng.choice(["flat", "checker", "gradient"])),
-            tuple(SKIN_TONES[rng.integers(len(SKIN_TONES))] * rng.uniform(0.9, 1.05)),
-            tuple(np.full(3, rng.uniform(0.05, 0.3)))))
+            tuple(skin), tuple(np.full(3, rng.uniform(0.05, 0.3))),
+            tuple(HAIR_TONES[rng.integers(len(HAIR_TONES))] * min(1.0, 0.6 * skin.mean() / 0.75)),
+            bool(rng.random() < 0.35)))
     return looks
 
 
@@ -105,7 +114,7 @@ def _material(asset, name, kind, rgb, rgb2, repeat=1.0):
     if kind == "flat":
         ET.SubElement(asset, "material", name=name, rgba=_fmt(list(rgb) + [1.0]), specular="0.1")
         return
-    ET.SubElement(asset, "texture", name=f"{name}_tex", type="2d" if kind != "gradient" else "cube",
+    ET.SubElement(asset, "texture", name=f"{name}_tex", type="2d",
                   builtin=kind, rgb1=_fmt(rgb), rgb2=_fmt(rgb2), width="64", height="64")
     ET.SubElement(asset, "material", name=name, texture=f"{name}_tex", texrepeat=f"{repeat:.3g} {repeat:.3g}",
                   specular="0.1")
@@ -117,7 +126,8 @@ def build_scene_xml(heights_m: list[float], looks: list[DancerLook], stage: Stag
     ET.SubElement(root, "compiler", angle="radian", autolimits="true")
     default = ET.SubElement(root, "default")
     ET.SubElement(default, "joint", type="hinge", limited="true")
-    ET.SubElement(default, "geom", contype="0", conaffinity="0", rgba="0.8 0.55 0.4 1")
+    # no default rgba: a geom rgba other than MuJoCo's default overrides its material's colour
+    ET.SubElement(default, "geom", contype="0", conaffinity="0")
     ET.SubElement(default, "site", size="0.012", rgba="0.1 0.4 0.9 1", group="3")
     visual = ET.SubElement(root, "visual")
     ET.SubElement(visual, "headlight", ambient=_fmt([stage.headlight_ambient] * 3),
@@ -147,6 +157,10 @@ def build_scene_xml(heights_m: list[float], looks: list[DancerLook], stage: Stag
         _material(asset, f"{pre}bottom", look.bottom_kind, look.bottom_rgb, look.bottom_rgb2, 3.0)
         ET.SubElement(asset, "material", name=f"{pre}skin", rgba=_fmt(list(look.skin_rgb) + [1.0]), specular="0.2")
         ET.SubElement(asset, "material", name=f"{pre}shoe", rgba=_fmt(list(look.shoe_rgb) + [1.0]), specular="0.3")
+        ET.SubElement(asset, "material", name=f"{pre}hair", rgba=_fmt(list(look.hair_rgb) + [1.0]), specular="0.1")
+        ET.SubElement(asset, "material", name=f"{pre}eye", rgba="0.05 0.04 0.04 1", specular="0.5")
+        ET.SubElement(asset, "material", name=f"{pre}mouth",
+                      rgba=_fmt(list(np.array(look.skin_rgb) * [0.75, 0.45, 0.45]) + [1.0]), specular="0.1")
         dancer = ET.fromstring(build_mjcf(height))
         pelvis = dancer.find("worldbody/body")
         for el in pelvis.iter():
@@ -158,13 +172,51 @@ def build_scene_xml(heights_m: list[float], looks: list[DancerLook], stage: Stag
                     "shoe" if body in SHOE_BODIES else "skin"
                 el.set("material", pre + mat)
                 el.attrib.pop("rgba", None)
+                if body in LIMB_BULK:  # limbs a little fuller than the kinematic model's capsules
+                    el.set("size", f"{float(el.get('size').split()[0]) * LIMB_BULK[body]:.4g}")
             if el.tag == "freejoint":
                 pass
             if el.tag == "joint":
                 for attr in ("damping", "armature"):
                     el.attrib.pop(attr, None)
+        _add_body_shape(pelvis, asset, pre, height, look)
         world.append(pelvis)
     return ET.tostring(root, encoding="unicode")
+
+
+#: radius factors of the rendered limb capsules (the collision and kinematic model keep theirs)
+LIMB_BULK = {"left_thigh": 1.3, "right_thigh": 1.3, "left_shank": 1.15, "right_shank": 1.15,
+             "left_upper_arm": 1.2, "right_upper_arm": 1.2}
+
+
+def _add_body_shape(pelvis: ET.Element, asset: ET.Element, pre: str, height: float, look: DancerLook) -> None:
+    """Visual-only geoms that make the stick dancer read as a person: chest, waist and hips with a human
+    cross-section, hair, eyes, nose and mouth on the head, optionally a skirt. Sizes in metres for a 1.70 m
+    dancer, scaled with height. Body frames (rest): torso and head x left, y up, z front; pelvis x front, y left,
+    z up. Named with the dancer's prefix, so they count as the dancer in the segmentation (occlusion)."""
+    k = height / 1.70
+    bodies = {el.get("name")[len(pre):]: el for el in pelvis.iter("body")}
+    bodies["pelvis"] = pelvis
+    shapes = [  # body, name, type, pos, size, material
+        ("torso", "chest", "ellipsoid", (0, 0.31, 0.0), (0.145, 0.12, 0.095), "top"),
+        ("torso", "waist", "ellipsoid", (0, 0.14, 0.0), (0.12, 0.13, 0.08), "top"),
+        ("pelvis", "hips", "ellipsoid", (0.0, 0.0, 0.01), (0.095, 0.15, 0.1), "bottom"),
+        ("head", "hair", "ellipsoid", (0, 0.07, -0.012), (0.091, 0.075, 0.088), "hair"),
+        ("head", "eye_l", "sphere", (0.03, 0.06, 0.122), (0.013,), "eye"),
+        ("head", "eye_r", "sphere", (-0.03, 0.06, 0.122), (0.013,), "eye"),
+        ("head", "nose", "ellipsoid", (0, 0.035, 0.13), (0.014, 0.022, 0.016), "skin"),
+        ("head", "mouth", "ellipsoid", (0, 0.0, 0.118), (0.025, 0.007, 0.01), "mouth"),
+    ]
+    for body, name, kind, pos, size, mat in shapes:
+        ET.SubElement(bodies[body], "geom", name=f"{pre}vis_{name}", type=kind, pos=_fmt(np.array(pos) * k),
+                      size=_fmt(np.array(size) * k), material=f"{pre}{mat}", contype="0", conaffinity="0",
+                      mass="0")
+    if look.skirt:  # a flared skirt: the convex hull of a 0.12 m ring at the waist and a 0.26 m ring below
+        ring = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+        verts = [(r * np.cos(a), r * np.sin(a), z) for r, z in ((0.12, 0.06), (0.26, -0.36)) for a in ring]
+        ET.SubElement(asset, "mesh", name=f"{pre}skirt", vertex=_fmt(np.array(verts) * k))
+        ET.SubElement(pelvis, "geom", name=f"{pre}vis_skirt", type="mesh", mesh=f"{pre}skirt",
+                      material=f"{pre}bottom", contype="0", conaffinity="0", mass="0")
 
 
 def place_dancers(rng: np.random.Generator, n: int, couple: bool) -> tuple[list[np.ndarray], list[float]]:
