@@ -125,6 +125,7 @@ class Choreography:
     stance: np.ndarray | None = None  # (T,) 0 both / automatic, 1 left foot, 2 right foot carries the weight
     walks: list = field(default_factory=list)  # (start, end) frames of travelling phrases
     bones: np.ndarray | None = None  # (9,) bone lengths (metres) of the dancer
+    between_m: float | None = None  # deepest penetration into other dancers of its clip (m), once checked
 
 
 class _Track:
@@ -417,9 +418,12 @@ class ChoreographyGenerator:
         length = 2 * leg_len * np.sin(a) * steps
         if np.linalg.norm(to_home) + length > style.travel_radius_m:  # head back toward the start
             sign = 1.0 if forward @ to_home >= 0 else -1.0
+            # about as many steps as bring the dancer home (the first and last are half steps)
+            steps = int(np.clip(round(np.linalg.norm(to_home) / (2 * leg_len * np.sin(a))), 3, 6))
             want = np.arctan2(to_home[1], to_home[0]) - np.arctan2(sign * forward[1], sign * forward[0])
             want = (want + np.pi) % (2 * np.pi) - np.pi
-            delta = float(np.clip(want / steps, -style.curve_rad, style.curve_rad))
+            curve = 0.0 if style.couple else max(style.curve_rad, 0.25)  # partners keep their line
+            delta = float(np.clip(want / steps, -curve, curve))
             if np.linalg.norm(to_home) < 0.3 and abs(forward @ to_home) < 0.1:
                 sign = float(rng.choice([-1.0, 1.0]))
         else:

@@ -21,7 +21,8 @@ Clip folder ``clip_{index:05d}/`` (all files written atomically; ``meta.json`` l
 - ``labels.json``: genre, fps, per dancer the movement segments (part, label, label_id, start, end, start_s,
   end_s; frames, end exclusive).
 - ``meta.json``: seed, clip index, genre, dancer count, frames, heights, motion checks (joint-limit violation,
-  foot penetration and skating), render speed.
+  foot penetration and skating, deepest penetration between dancers' geoms), visible / occluded keypoint
+  fractions, render speed.
 """
 
 from __future__ import annotations
@@ -131,7 +132,7 @@ def mocap_motion(spec: ClipSpec, bvh_paths: list[str]):
 def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, motion=None) -> dict:
     """Generate, (render) and write one clip; returns its meta dict. Skips nothing: callers check ``is_done``.
     ``motion``: precomputed (dancers, heights), e.g. from :func:`mocap_motion`."""
-    from hdvr.synth.render import (OUTSIDE, VISIBLE, SceneRenderer, boxes_overlap, keypoint_boxes,
+    from hdvr.synth.render import (OCCLUDED, OUTSIDE, VISIBLE, SceneRenderer, boxes_overlap, keypoint_boxes,
                                    keypoint_visibility,
                                    random_camera_path)
     from hdvr.synth.scene import build_scene_xml, random_looks, random_stage
@@ -225,8 +226,11 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
     feet = [foot_metrics(d.keypoints, d.airborne, d.fps, stance=d.stance) for d in dancers]
     from hdvr.synth.scene import collision_model, inter_dancer_penetration
 
-    between = inter_dancer_penetration(collision_model(list(heights)), np.stack([d.qpos for d in dancers])) \
-        if n > 1 else np.zeros((1, 1))
+    if all(d.between_m is not None for d in dancers):  # checked when the motion was made
+        between = np.array([d.between_m for d in dancers])
+    else:
+        between = inter_dancer_penetration(collision_model(list(heights)), np.stack([d.qpos for d in dancers])) \
+            if n > 1 else np.zeros((1, 1))
     frames = T
     meta = {"format_version": FORMAT_VERSION, "clip": spec.name, "index": spec.index, "seed": spec.seed,
             "genre": spec.genre, "n_dancers": n, "frames": frames, "fps": spec.fps, "seconds": spec.seconds,
@@ -236,6 +240,7 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
             "foot_skate_max_m_s": max(f["skate_max_m_s"] for f in feet),
             "inter_dancer_penetration_m": float(between.max()),
             "visible_fraction": float((vis == VISIBLE).mean()),
+            "occluded_fraction": float((vis == OCCLUDED).sum() / max((vis > 0).sum(), 1)),
             "motion_seconds": t_motion, "render_seconds": render_seconds,
             "render_fps": T / render_seconds if render_seconds > 0 else None,
             "render_cpu_seconds": render_cpu_seconds,

@@ -189,6 +189,14 @@ LIMB_BULK = {"left_thigh": 1.3, "right_thigh": 1.3, "left_shank": 1.15, "right_s
              "left_upper_arm": 1.2, "right_upper_arm": 1.2}
 
 
+#: volumes of the rendered body (body, name, type, pos, size (m, 1.70 m dancer), material); also collision geoms
+BODY_VOLUMES = [
+    ("torso", "chest", "ellipsoid", (0, 0.31, 0.0), (0.145, 0.12, 0.095), "top"),
+    ("torso", "waist", "ellipsoid", (0, 0.14, 0.0), (0.12, 0.13, 0.08), "top"),
+    ("pelvis", "hips", "ellipsoid", (0.0, 0.0, 0.01), (0.095, 0.15, 0.1), "bottom"),
+]
+
+
 def _add_body_shape(pelvis: ET.Element, asset: ET.Element, pre: str, height: float, look: DancerLook) -> None:
     """Visual-only geoms that make the stick dancer read as a person: chest, waist and hips with a human
     cross-section, hair, eyes, nose and mouth on the head, optionally a skirt. Sizes in metres for a 1.70 m
@@ -197,10 +205,7 @@ def _add_body_shape(pelvis: ET.Element, asset: ET.Element, pre: str, height: flo
     k = height / 1.70
     bodies = {el.get("name")[len(pre):]: el for el in pelvis.iter("body")}
     bodies["pelvis"] = pelvis
-    shapes = [  # body, name, type, pos, size, material
-        ("torso", "chest", "ellipsoid", (0, 0.31, 0.0), (0.145, 0.12, 0.095), "top"),
-        ("torso", "waist", "ellipsoid", (0, 0.14, 0.0), (0.12, 0.13, 0.08), "top"),
-        ("pelvis", "hips", "ellipsoid", (0.0, 0.0, 0.01), (0.095, 0.15, 0.1), "bottom"),
+    shapes = BODY_VOLUMES + [  # body, name, type, pos, size, material
         ("head", "hair", "ellipsoid", (0, 0.07, -0.012), (0.091, 0.075, 0.088), "hair"),
         ("head", "eye_l", "sphere", (0.03, 0.06, 0.122), (0.013,), "eye"),
         ("head", "eye_r", "sphere", (-0.03, 0.06, 0.122), (0.013,), "eye"),
@@ -244,9 +249,10 @@ def place_dancers(rng: np.random.Generator, n: int, couple: bool) -> tuple[list[
 
 
 def collision_model(heights_m: list[float]):
-    """A MuJoCo model of the dancers' body geoms (capsules, spheres) in which only geoms of different dancers
-    collide (dancer i: contype bit i, conaffinity all other bits), for measuring inter-dancer penetration.
-    Cached per tuple of heights (the model is read-only here)."""
+    """A MuJoCo model of the dancers' bodies as rendered (the model's capsules and spheres with the rendered limb
+    thickness, chest, waist and hip volumes; not the face details or a skirt) in which only geoms of different
+    dancers collide (dancer i: contype bit i, conaffinity all other bits), for measuring inter-dancer
+    penetration. Cached per tuple of heights (the model is read-only here)."""
     return _collision_model(tuple(float(h) for h in heights_m))
 
 
@@ -265,10 +271,19 @@ def _collision_model(heights_m: tuple):
             if "name" in el.attrib:
                 el.set("name", f"d{i}_" + el.get("name"))
             if el.tag == "geom":
-                el.set("contype", str(1 << i))
-                el.set("conaffinity", str(everyone & ~(1 << i)))
+                body = el.get("name")[len(f"d{i}_"):].removesuffix("_geom")
+                if body in LIMB_BULK:
+                    el.set("size", f"{float(el.get('size').split()[0]) * LIMB_BULK[body]:.4g}")
             if el.tag == "site":
                 el.attrib.pop("name", None)
+        bodies = {el.get("name")[len(f"d{i}_"):]: el for el in pelvis.iter("body")}
+        k = height / 1.70
+        for body, name, kind, pos, size, _ in BODY_VOLUMES:
+            ET.SubElement(bodies[body], "geom", name=f"d{i}_vol_{name}", type=kind, pos=_fmt(np.array(pos) * k),
+                          size=_fmt(np.array(size) * k), mass="0")
+        for el in pelvis.iter("geom"):
+            el.set("contype", str(1 << i))
+            el.set("conaffinity", str(everyone & ~(1 << i)))
         world.append(pelvis)
     return mujoco.MjModel.from_xml_string(ET.tostring(root, encoding="unicode"))
 
@@ -303,12 +318,20 @@ def separate_dancers(dancers, heights_m, limit_m: float = 0.002, step_m: float =
     """Move whole dancers apart (a horizontal translation of their motion: feet stay pinned, labels unchanged)
     until no pair's geoms penetrate more than ``limit_m``: the later dancer of a penetrating pair moves away from
     the other along the line between their mean positions, ``step_m`` plus the depth at a time. Returns the
-    final (N, N) penetration matrix (metres)."""
-    model = collision_model(list(heights_m))
+    final (N, N) penetration matrix (metres) and sets each dancer's ``between_m``."""
     n = len(dancers)
-    for _ in range(max_rounds):
-        pen = inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride=2)
-        if n < 2 or pen.max() <= limit_m:
+    if n < 2:
+        for d in dancers:
+            d.between_m = 0.0
+        return np.zeros((n, n))
+    model = collision_model(list(heights_m))
+    stride = 3  # coarse rounds first, then every frame until none is left
+    for round_ in range(max_rounds + 1):
+        pen = inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride)
+        if pen.max() <= limit_m and stride > 1:
+            stride = 1
+            pen = inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride)
+        if pen.max() <= limit_m or round_ == max_rounds:
             break
         for i in range(n):
             for j in range(i + 1, n):
@@ -319,4 +342,6 @@ def separate_dancers(dancers, heights_m, limit_m: float = 0.002, step_m: float =
                 shift = (step_m + pen[i, j]) * away
                 dancers[j].qpos[:, :2] += shift
                 dancers[j].keypoints[..., :2] += shift
-    return inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride=1)
+    for i, d in enumerate(dancers):
+        d.between_m = float(pen[i].max())
+    return pen
