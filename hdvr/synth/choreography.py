@@ -373,7 +373,10 @@ class ChoreographyGenerator:
                 self.stance[t:t + n] = 2 if side == "left" else 1
             elif kind == "walk":
                 n = self._walk(h, yaw, t, style, beat, rng)
-                if n:  # the legs swing forward and back like pendulums: a swing of each leg segment
+                # the legs swing forward and back like pendulums: a swing of each leg segment when the steps
+                # reverse the legs at least twice per pattern window (the vocabulary's swinging), else the steps
+                # are directional moves
+                if n and self.step_frames <= self.fps * self.tax.thresholds["pattern_window_s"] / 2:
                     declared.append(Declared(t, t + n, ("left_upper_leg", "left_lower_leg", "right_upper_leg",
                                                         "right_lower_leg"), "oscillation"))
             elif kind == "flip":
@@ -410,8 +413,10 @@ class ChoreographyGenerator:
         leg_len = float(bones[6] + bones[7])
         a = rng.uniform(*style.step_rad)
         steps = int(rng.integers(3, 7))
-        full = max(int(round(beat)), int(0.4 * self.fps))
-        half = max(int(round(0.6 * full)), int(0.3 * self.fps))
+        # frames of a step (the first and last: half steps): one per beat, two per beat in slow music
+        full = max(int(round(beat if beat <= 0.6 * self.fps else beat / 2)), int(0.5 * self.fps))
+        half = max(int(round(0.75 * full)), int(0.4 * self.fps))
+        self.step_frames = full
         heading = self.start_yaw + yaw[t - 1 if t else 0]
         forward = np.array([np.cos(heading), np.sin(heading)])
         to_home = self.home - self.pos
@@ -434,8 +439,9 @@ class ChoreographyGenerator:
         r_max = np.sqrt(l1 * l1 + l2 * l2 + 2 * l1 * l2 * np.cos(k0))  # hip -> ankle with the rest knee bend
         G = legs["left"]
         x_c, z_rest = leg_fk(REST[G["hip_extend"]], REST[G["knee_flex"]], l1, l2)  # the rest pose's ankle
-        X = r_max * np.sin(a)  # ankle in front of / behind its rest place at a weight change (m)
-        H = np.sqrt(r_max ** 2 - (abs(x_c) + X) ** 2)  # hip height above the ankles while walking (m)
+        r_walk = 0.985 * r_max  # knees never quite straight while walking (the IK stays well conditioned)
+        X = r_walk * np.sin(a)  # ankle in front of / behind its rest place at a weight change (m)
+        H = np.sqrt(r_walk ** 2 - (abs(x_c) + X) ** 2)  # hip height above the ankles while walking (m)
         # phases: (stance ankle's x behind its rest place at start, at end; hip height at start, at end; frames)
         phases = ([(0.0, X, z_rest, H, half)] + [(-X, X, H, H, full)] * (steps - 1) + [(-X, 0.0, H, z_rest, half)])
         if t + sum(ph[-1] for ph in phases) > T:
@@ -443,12 +449,16 @@ class ChoreographyGenerator:
         stance_side = str(rng.choice(["left", "right"]))
         lift = rng.uniform(0.05, 0.09)  # the swinging foot's clearance at mid-swing (m)
         t0 = t
-        for x0, x1, z0, z1, n in phases:
+        for k, (x0, x1, z0, z1, n) in enumerate(phases):
             swing_side = "right" if stance_side == "left" else "left"
             p = 0.5 - 0.5 * np.cos(np.pi * (np.arange(1, n + 1) / n))  # C1: zero speed at each weight change
-            x = sign * (x0 + (x1 - x0) * p)  # stance ankle behind the hip (m); the swing ankle mirrors it
-            z = z0 + (z1 - z0) * p
-            for side, xs, zs in ((stance_side, x_c + x, z), (swing_side, x_c - x, z - lift * np.sin(np.pi * p) ** 2)):
+            x = sign * (x0 + (x1 - x0) * p)  # stance ankle behind the hip (m); the swinging ankle mirrors it
+            # the hip leaves / reaches its rest height with zero slope: near the straight rest knee the IK is
+            # steep (knee ~ sqrt of the missing reach), so a linear approach would snap the knee
+            z = z0 + (z1 - z0) * (p * p if k == 0 else 1 - (1 - p) ** 2 if k == len(phases) - 1 else p)
+            # the swinging foot rises at once (sin, not sin^2: it does not brush the floor while it travels); its
+            # speed is still zero at lift-off and touch-down, where p has zero slope
+            for side, xs, zs in ((stance_side, x_c + x, z), (swing_side, x_c - x, z - lift * np.sin(np.pi * p))):
                 G = legs[side]
                 theta, knee = leg_ik(xs, zs, l1, l2, k0)
                 flat = REST[G["hip_extend"]] + REST[G["knee_flex"]] + REST[G["ankle_plantarflex"]]
