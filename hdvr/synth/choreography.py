@@ -25,7 +25,7 @@ from hdvr import dh
 from hdvr.movements.labeller import _runs
 from hdvr.movements.taxonomy import load_taxonomy
 from hdvr.skeleton import ROOT_QPOS, Skeleton
-from hdvr.synth.declare import Intent, declared_labels
+from hdvr.synth.declare import Intent, declared_labels, plan_kinematics
 from hdvr.synth.genres import GenreStyle, genre_style
 
 MARGIN_RAD = 0.05
@@ -747,7 +747,8 @@ class ChoreographyGenerator:
         qz = np.stack([np.cos(half_y), np.zeros(T), np.zeros(T), np.sin(half_y)], 1)
         qy = np.stack([np.cos(half_p), np.zeros(T), np.sin(half_p), np.zeros(T)], 1)
         q[:, 3:7] = _quat_mul(qz, qy)
-        rel = self.sk.keypoints(q)  # root at the origin
+        kin = plan_kinematics(self.sk, q)  # root at the origin: keypoints and body rotations of the plan
+        rel = kin["keypoints"]
         airborne = np.abs(np.gradient(pitch)) > 1e-9
         airborne = np.convolve(airborne, np.ones(3), mode="same") > 0
         soles = {s: rel[:, list(ix)] for s, ix in SOLE_KEYPOINTS.items()}
@@ -784,6 +785,7 @@ class ChoreographyGenerator:
         step[airborne[1:] | airborne[:-1]] = 0.0
         root[:, :2] = np.asarray(start_xy, dtype=float) + np.r_[np.zeros((1, 2)), np.cumsum(step, axis=0)]
         q[:, :3] = root
+        self.kinematics = {**kin, "keypoints": rel + root[:, None, :]}  # rotations do not depend on the root position
         return q, rel + root[:, None, :], airborne
 
     # ---- top level -------------------------------------------------------------------------------------------
@@ -825,7 +827,8 @@ class ChoreographyGenerator:
         intents = [Intent("legs" if g.endswith("_leg") else g, k, s, e) for g, k, s, e in prims]
         if symmetric:  # the right arm performs the left arm's primitives
             intents += [Intent("right_arm", it.kind, it.start, it.end) for it in intents if it.group == "left_arm"]
-        labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps)
+        labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps,
+                                 self.kinematics)
         return Choreography(style.name, self.fps, q, kp, labels, airborne, intents, declared, self.stance.copy(),
                             list(self.walks), self.sk.bone_lengths)
 
@@ -852,7 +855,8 @@ class ChoreographyGenerator:
         q, kp, airborne = self.place_root(h, yaw, pitch, start_xy, start_yaw, stance)
         declared = [Declared(d.start, d.end, tuple(_swap_side(p) for p in d.parts), d.label) for d in lead.declared]
         intents = [Intent(_swap_side(it.group), it.kind, it.start, it.end) for it in lead.primitives]
-        labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps)
+        labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps,
+                                 self.kinematics)
         return Choreography(lead.genre, self.fps, q, kp, labels, airborne, intents, declared, stance,
                             list(lead.walks), self.sk.bone_lengths)
 

@@ -118,13 +118,14 @@ def _intent_mask(intents, group: str, T: int) -> np.ndarray:
 
 
 def declared_labels(tax: Taxonomy, sk: Skeleton, qpos: np.ndarray, heading: np.ndarray, pitch: np.ndarray,
-                    intents, shapes, fps: float) -> np.ndarray:
+                    intents, shapes, fps: float, kinematics: dict | None = None) -> np.ndarray:
     """(T, 16) global label ids declared by the plan: ``qpos`` (T, 41) planned motion, ``heading`` / ``pitch`` (T,)
     planned root heading (world yaw) / somersault angles (rad), ``intents`` list of :class:`Intent`, ``shapes`` list of
-    :class:`hdvr.synth.choreography.Declared` (shape spans), ``fps`` frames per second."""
+    :class:`hdvr.synth.choreography.Declared` (shape spans), ``fps`` frames per second; ``kinematics``: the
+    result of :func:`plan_kinematics` for ``qpos`` when the caller has it."""
     th = tax.thresholds
     T = qpos.shape[0]
-    kin = plan_kinematics(sk, qpos)
+    kin = kinematics if kinematics is not None else plan_kinematics(sk, qpos)
     kp = kin["keypoints"]
     h = qpos[:, ROOT_QPOS:]
     ids = np.zeros((T, len(tax.parts)), dtype=np.int16)

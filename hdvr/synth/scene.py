@@ -288,9 +288,21 @@ def _collision_model(heights_m: tuple):
     return mujoco.MjModel.from_xml_string(ET.tostring(root, encoding="unicode"))
 
 
-def inter_dancer_penetration(model, qpos: np.ndarray, stride: int = 1) -> np.ndarray:
+def close_frames(keypoints: np.ndarray, margin_m: float = 0.25) -> np.ndarray:
+    """(T,) frames in which some two dancers' keypoint boxes (N, T, 25, 3), grown by ``margin_m`` (more than the
+    thickest body volume), overlap: only there can their geoms touch."""
+    lo, hi = keypoints.min(2) - margin_m, keypoints.max(2) + margin_m  # (N, T, 3)
+    n = keypoints.shape[0]
+    out = np.zeros(keypoints.shape[1], dtype=bool)
+    for i in range(n):
+        for j in range(i + 1, n):
+            out |= ((lo[i] <= hi[j]) & (lo[j] <= hi[i])).all(-1)
+    return out
+
+
+def inter_dancer_penetration(model, qpos: np.ndarray, stride: int = 1, frames: np.ndarray | None = None) -> np.ndarray:
     """(N, N) deepest penetration (metres, >= 0) between the geoms of each pair of dancers over the frames of
-    ``qpos`` (N, T, 41) (every ``stride``-th frame)."""
+    ``qpos`` (N, T, 41) (every ``stride``-th frame; only where ``frames`` (T,) bool is True, when given)."""
     import mujoco
 
     data = mujoco.MjData(model)
@@ -301,6 +313,8 @@ def inter_dancer_penetration(model, qpos: np.ndarray, stride: int = 1) -> np.nda
     out = np.zeros((n, n))
     flat = np.concatenate(list(qpos), axis=1)  # (T, N * 41)
     for t in range(0, T, stride):
+        if frames is not None and not frames[t]:
+            continue
         data.qpos[:] = flat[t]
         mujoco.mj_kinematics(model, data)
         mujoco.mj_collision(model, data)
@@ -324,13 +338,18 @@ def separate_dancers(dancers, heights_m, limit_m: float = 0.002, step_m: float =
         for d in dancers:
             d.between_m = 0.0
         return np.zeros((n, n))
-    model = collision_model(list(heights_m))
+    model = None
     stride = 3  # coarse rounds first, then every frame until none is left
     for round_ in range(max_rounds + 1):
-        pen = inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride)
+        close = close_frames(np.stack([d.keypoints for d in dancers]))
+        if not close.any():
+            pen = np.zeros((n, n))
+            break
+        model = model or collision_model(list(heights_m))
+        pen = inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride, close)
         if pen.max() <= limit_m and stride > 1:
             stride = 1
-            pen = inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride)
+            pen = inter_dancer_penetration(model, np.stack([d.qpos for d in dancers]), stride, close)
         if pen.max() <= limit_m or round_ == max_rounds:
             break
         for i in range(n):
