@@ -49,6 +49,10 @@ GROUP_JOINTS = {
     "right_arm": _j("right_shoulder_abduct", "right_shoulder_flex", "right_shoulder_rotate", "right_elbow_flex"),
 }
 # Body parts that see a shape made by a group's joints (declared pattern labels go to these parts).
+FLEX_JOINTS = set(_j("left_shoulder_flex", "right_shoulder_flex"))
+#: partners facing each other raise their arms forward at most this far (rad of shoulder flexion), so that
+#: their hands do not meet (the arms are not choreographed into a hold)
+PARTNER_REACH_CAP_RAD = 0.7
 ARM_PARTS = {"shoulder": ("upper_arm", "lower_arm"), "forearm": ("lower_arm",)}
 
 
@@ -147,6 +151,7 @@ class ChoreographyGenerator:
         self.sk = skeleton or Skeleton()
         self.fps = float(fps)
         self.tax = load_taxonomy()
+        self.reach_cap = None
 
     # ---- helpers ---------------------------------------------------------------------------------------------
     def _beat_frames(self, style: GenreStyle, bpm: float) -> float:
@@ -163,6 +168,8 @@ class ChoreographyGenerator:
             j = joints[i]
             lo = REST[j] + style.amplitude * (LOWER[j] - REST[j])
             hi = REST[j] + style.amplitude * (UPPER[j] - REST[j])
+            if j in FLEX_JOINTS and self.reach_cap is not None:
+                hi = min(hi, self.reach_cap)
             for _ in range(8):
                 v = rng.uniform(lo, hi)
                 if abs(v - current[i]) >= min(min_delta, 0.45 * (hi - lo)):
@@ -228,7 +235,7 @@ class ChoreographyGenerator:
             if kind == "move":
                 target = self._target(joints, cur, style, rng)
                 if group.endswith("_arm") and rng.random() < 0.25:  # raise the arm above the horizontal
-                    k = int(rng.integers(0, 2))
+                    k = int(rng.integers(0, 2)) if self.reach_cap is None else 0  # partners: sideways / up
                     target[k] = rng.uniform(1.78, 1.9)
                     if abs(target[k] - cur[k]) < 0.3:
                         target[k] = rng.uniform(0.0, 0.6)
@@ -280,6 +287,8 @@ class ChoreographyGenerator:
                 return pre, m, (f"{side}_lower_arm",), "circle"
             sel = _j(f"{side}_shoulder_abduct", f"{side}_shoulder_flex")
             centre = np.r_[rng.uniform(0.3, 0.9), rng.uniform(0.2, 0.8), cur[2], rng.uniform(-0.3, 0.0)]
+            if self.reach_cap is not None:  # partners: the arm's forward swing stays below the cap
+                centre[1] = min(centre[1], self.reach_cap - (0.45 if kind == "circle" else 0.6))
             pre = self._settle(h, joints, t, cur, centre)
             if kind == "circle":
                 m = self._oscillate(h, sel, t + pre, centre[:2], [0.45, 0.45], [0.0, np.pi / 2], freq, periods)
@@ -797,6 +806,7 @@ class ChoreographyGenerator:
         beat = self._beat_frames(style, bpm)
         if mirror_of is not None:
             return self._mirror(mirror_of, start_xy, start_yaw)
+        self.reach_cap = PARTNER_REACH_CAP_RAD if style.couple else None
         h = np.tile(REST, (T, 1))
         yaw = np.zeros(T)
         pitch = np.zeros(T)
