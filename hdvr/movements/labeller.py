@@ -374,14 +374,19 @@ class MovementLabeller:
             for c in range(3):
                 filled[:, j, c] = np.interp(t_idx, t_idx[ok], kp[ok, j, c]) if ok.any() else 0.0
         win = max(1, int(round(self.th["smoothing_s"] * fps)) | 1)
+        raw = None
         if self.smooth and win > 1:
+            raw = filled
             filled = uniform_filter1d(filled, win, axis=0, mode="nearest")
-        signals = body_signals(filled, up, self._flipping(filled, fps, up))
+        flipping = self._flipping(filled, fps, up)
+        signals = body_signals(filled, up, flipping)
+        # kicks last a few frames: smoothing would flatten their peak speed, so it is read unsmoothed
+        raw_signals = body_signals(raw, up, flipping) if raw is not None else signals
         ids = np.zeros((T, len(self.tax.parts)), dtype=np.int16)
         for part in self.tax.parts:
             names = PART_KEYPOINTS.get(part.name) or PART_KEYPOINTS[part.measure]
             part_missing = missing[:, [J[n] for n in names]].any(1)
-            local = self._label_part(part, signals[part.name], fps)
+            local = self._label_part(part, signals[part.name], fps, raw_signals[part.name])
             local[part_missing] = part.label("unknown").index
             ids[:, part.index] = np.array([part.labels[i].id for i in local], dtype=np.int16)
         return Labels(ids, float(fps), self.tax)
@@ -394,7 +399,7 @@ class MovementLabeller:
         thr = self.th["somersault_speed_rad_s"]
         return _hysteresis(rate, thr, thr * 0.6)
 
-    def _label_part(self, part: Part, sig: PartSignals, fps: float) -> np.ndarray:
+    def _label_part(self, part: Part, sig: PartSignals, fps: float, raw: PartSignals | None = None) -> np.ndarray:
         th = self.th
         T = sig.components.shape[0] if sig.components.size else sig.extra["angle_deg"].shape[0]
         unknown = part.label("unknown").index
@@ -426,7 +431,9 @@ class MovementLabeller:
         dom_vel = np.take_along_axis(vel[:, motion], dom[:, None], 1)[:, 0]
         direction = table[dom, (dom_vel > 0).astype(int)]
         if fast is not None:
-            direction = np.where(speed > th["kick_speed_rad_s"], fast.index, direction)
+            raw_speed = speed if raw is None else np.linalg.norm(
+                np.gradient(raw.components[:, motion], axis=0) * fps, axis=1)
+            direction = np.where(raw_speed > th["kick_speed_rad_s"], fast.index, direction)
         out[moving] = direction[moving]
         out[special >= 0] = special[special >= 0]
         out = _merge_short(out, moving, min_run)
