@@ -116,11 +116,11 @@ STYLES: dict[str, GenreStyle] = {
 #: Floor paths per genre (walk weight, step size, curvature, radius): waltz travels on curves (line of dance,
 #: rotating), tango walks straight promenades, ballet crosses on diagonals, swing / rumba / flamenco travel a
 #: little, belly dance less, hip hop and tap stay mostly in place.
-TRAVEL = {"ballet": (2.0, (0.3, 0.4), 0.05, 2.2), "belly_dance": (0.5, (0.15, 0.25), 0.2, 0.8),
+TRAVEL = {"ballet": (2.5, (0.3, 0.4), 0.05, 2.2), "belly_dance": (0.5, (0.15, 0.25), 0.2, 0.8),
           "flamenco": (1.0, (0.2, 0.3), 0.2, 1.2), "hip_hop": (0.4, (0.15, 0.25), 0.2, 0.6),
-          "rumba": (1.5, (0.2, 0.3), 0.0, 1.2), "swing": (1.5, (0.2, 0.3), 0.0, 1.2),
-          "tango": (3.0, (0.3, 0.4), 0.0, 2.0), "tap": (0.4, (0.15, 0.2), 0.15, 0.6),
-          "waltz": (3.0, (0.25, 0.35), 0.0, 2.0)}
+          "rumba": (2.5, (0.2, 0.3), 0.0, 1.2), "swing": (2.5, (0.2, 0.3), 0.0, 1.2),
+          "tango": (5.0, (0.3, 0.4), 0.0, 2.0), "tap": (0.4, (0.15, 0.2), 0.15, 0.6),
+          "waltz": (6.0, (0.25, 0.35), 0.0, 2.0)}
 for _name, (_w, _step, _curve, _radius) in TRAVEL.items():
     STYLES[_name] = replace(STYLES[_name], walk=_w, step_rad=_step, curve_rad=_curve, travel_radius_m=_radius)
 
