@@ -186,7 +186,8 @@ def build_scene_xml(heights_m: list[float], looks: list[DancerLook], stage: Stag
 
 #: radius factors of the rendered limb capsules (the collision and kinematic model keep theirs)
 LIMB_BULK = {"left_thigh": 1.3, "right_thigh": 1.3, "left_shank": 1.15, "right_shank": 1.15,
-             "left_upper_arm": 1.2, "right_upper_arm": 1.2}
+             "left_upper_arm": 1.2, "right_upper_arm": 1.2, "left_forearm": 1.15, "right_forearm": 1.15,
+             "neck": 1.6}
 
 
 #: volumes of the rendered body (body, name, type, pos, size (m, 1.70 m dancer), material); also collision geoms
