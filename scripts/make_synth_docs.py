@@ -3,6 +3,7 @@
 - ``docs/img/synth_contact_sheet.jpg``: one frame of a rendered clip per genre, with the ground truth drawn on
   it (BODY_25 skeleton: filled dots visible, hollow dots occluded; boxes with track ids).
 - ``docs/img/synth_<genre>.gif``: a short clip per genre (2.5 s, 10 frames/s, 200x150).
+- ``docs/img/synth_floor_paths.png``: top view of the floor paths of one 30 s clip per genre.
 - ``docs/img/movements_salsa_score.png`` and ``docs/img/movements_salsa_poses.png``: the labeller's score of the
   CMU salsa lead (60_01, 0-6 s) and stick figures of the same seconds (needs ../shared/data).
 
@@ -78,6 +79,36 @@ def genre_media(out: Path, seed: int) -> None:
     sheet.save(out / "synth_contact_sheet.jpg", quality=85)
 
 
+def path_media(out: Path, seed: int, seconds: float = 30.0) -> None:
+    """Top view of the dancers' floor paths (root x, y) in one motion-only clip per genre."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from hdvr.synth.groundtruth import generate_motion
+
+    fig, axes = plt.subplots(3, 3, figsize=(9, 9))
+    for ax, (i, genre) in zip(axes.ravel(), enumerate(GENRES)):
+        dancers, _ = generate_motion(clip_spec(i, seed, GENRES, (2, 2), seconds))
+        for k, d in enumerate(dancers):
+            xy = d.qpos[:, :2]
+            c = np.array(TRACK_COLOURS[k % len(TRACK_COLOURS)]) / 255
+            ax.plot(xy[:, 0], xy[:, 1], color=c, linewidth=1.2)
+            ax.plot(*xy[0], "o", color=c, markersize=4)
+            for side in (19, 22):  # big toes at the frames where a foot is planted: the footprints
+                toe = d.keypoints[:, side]
+                planted = toe[:, 2] < 0.005
+                ax.plot(toe[planted, 0], toe[planted, 1], ".", color=c, markersize=1.5, alpha=0.4)
+        ax.set_title(f"{GENRE_DISPLAY[genre]} ({seconds:.0f} s)", fontsize=9)
+        ax.set_aspect("equal")
+        ax.tick_params(labelsize=7)
+    fig.suptitle("Floor paths: root (lines, start = dot) and planted toes, 2 dancers per clip, metres", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out / "synth_floor_paths.png", dpi=80)
+    plt.close(fig)
+
+
 def salsa_media(out: Path, shared: Path) -> None:
     import matplotlib
 
@@ -132,6 +163,7 @@ def main() -> int:
     else:
         print(f"no shared data at {args.shared}: salsa pictures skipped")
     if not args.skip_genres:
+        path_media(out, args.seed)
         genre_media(out, args.seed)
     return 0
 

@@ -84,6 +84,24 @@ class PartSignals:
     extra: dict
 
 
+def _head_angles(g: dict, y_t: np.ndarray):
+    ear_mid = 0.5 * (g["left_ear"] + g["right_ear"])
+    n = _unit(ear_mid - g["neck"])
+    y_n = _ortho(y_t, n)
+    f = _in_frame(g["nose"] - ear_mid, (np.cross(y_n, n), y_n, n))
+    yaw = np.unwrap(np.arctan2(f[:, 1], f[:, 0]))
+    pitch = np.arctan2(f[:, 2], np.hypot(f[:, 0], f[:, 1]))
+    return yaw, pitch, n
+
+
+def head_yaw(kp: np.ndarray) -> np.ndarray:
+    """(T,) the head's yaw (rad) as the labeller measures it: nose - ear midpoint in the neck frame."""
+    g = {n: kp[:, J[n]] for n in ("left_ear", "right_ear", "neck", "nose", "mid_hip", "left_shoulder",
+                                  "right_shoulder")}
+    z_t = _unit(g["neck"] - g["mid_hip"])
+    return _head_angles(g, _ortho(g["left_shoulder"] - g["right_shoulder"], z_t))[0]
+
+
 def body_signals(kp: np.ndarray, up=(0.0, 0.0, 1.0), flipping: np.ndarray | None = None) -> dict[str, PartSignals]:
     """Per-part signals from BODY_25 keypoints (T, 25, 3), NaN-free; ``up`` is the frame's vertical.
 
@@ -103,12 +121,7 @@ def body_signals(kp: np.ndarray, up=(0.0, 0.0, 1.0), flipping: np.ndarray | None
     torso = (np.cross(y_t, z_t), y_t, z_t)
     out: dict[str, PartSignals] = {}
 
-    ear_mid = 0.5 * (g["left_ear"] + g["right_ear"])
-    n = _unit(ear_mid - g["neck"])
-    y_n = _ortho(y_t, n)
-    f = _in_frame(g["nose"] - ear_mid, (np.cross(y_n, n), y_n, n))
-    yaw = np.unwrap(np.arctan2(f[:, 1], f[:, 0]))
-    pitch = np.arctan2(f[:, 2], np.hypot(f[:, 0], f[:, 1]))
+    yaw, pitch, n = _head_angles(g, y_t)
     out["head"] = PartSignals(np.stack([yaw, pitch], 1), ("yaw", "pitch"), (0, 1), {})
     nt = _in_frame(n, torso)
     out["neck"] = PartSignals(np.stack([np.arctan2(nt[:, 1], nt[:, 2]), np.arctan2(nt[:, 0], nt[:, 2])], 1),
@@ -147,7 +160,9 @@ def body_signals(kp: np.ndarray, up=(0.0, 0.0, 1.0), flipping: np.ndarray | None
         shank = _unit(g[f"{side}_knee"] - g[f"{side}_ankle"])
         angle = np.degrees(np.arccos(np.clip(_dot(foot, shank), -1, 1)))
         lateral = _ortho(g[f"{side}_small_toe"] - g[f"{side}_big_toe"], foot)  # across the sole
-        roll_deg = np.degrees(np.arcsin(np.clip(np.abs(_dot(lateral, up)), 0, 1)))  # sole tilted sideways
+        # foot rolled on its edge: the line across the sole tilts against the shank (inversion / eversion); a
+        # foot carried by a leg lifted sideways is not rolled, so the tilt is not measured against the vertical
+        roll_deg = np.degrees(np.arcsin(np.clip(np.abs(_dot(lateral, shank)), 0, 1)))
         out[f"{side}_foot"] = PartSignals(np.zeros((T, 0)), (), (), {"angle_deg": angle, "roll_deg": roll_deg})
     return out
 
@@ -247,6 +262,52 @@ def classify_window(points: np.ndarray, fps: float, th: dict, amplitude_min: flo
     return None
 
 
+def direction_table(part: Part, component_names) -> np.ndarray:
+    """(k, 2) part-local label index for a motion component moving negative (column 0) / positive (column 1);
+    ``Unknown`` where the vocabulary has no label for that direction (e.g. the neck moving forward)."""
+    unknown = part.label("unknown").index
+    table = np.full((len(component_names), 2), unknown)
+    for k, name in enumerate(component_names):
+        for si, sign in enumerate((-1, 1)):
+            lab = part.find("direction", component=name, sign=sign)
+            if lab is not None:
+                table[k, si] = lab.index
+    return table
+
+
+def still_labels(part: Part, direction: np.ndarray | None, th: dict, frames: int = 1) -> np.ndarray:
+    """Part-local label of a part that does not move, per frame: ``Holding ...`` by the segment's unit direction
+    (T, 3) in its body frame (x front, y left, z up; arms: torso frame, legs: pelvis frame) when it is held away
+    from hanging (more than ``hold_away_from_down_deg``; High: arms above the horizontal, legs more than 60 deg
+    from straight down), else ``Keeping Still``. ``direction`` None (parts without a segment): Keeping Still in
+    each of ``frames`` frames."""
+    T = frames if direction is None else direction.shape[0]
+    out = np.full(T, part.label("still").index)
+    if direction is None:
+        return out
+    d = direction
+    away = np.degrees(np.arccos(np.clip(-d[:, 2], -1, 1))) > th["hold_away_from_down_deg"]
+    conds = {"high": d[:, 2] > (0.2 if part.measure == "limb" and "arm" in part.name else -0.5)}
+    fwd_dom = np.abs(d[:, 0]) >= np.abs(d[:, 1])
+    conds["forward"] = away & fwd_dom & (d[:, 0] > 0)
+    conds["backward"] = away & fwd_dom & (d[:, 0] <= 0)
+    conds["side"] = away & ~fwd_dom
+    for cond in ("side", "backward", "forward", "high"):  # later ones take precedence
+        lab = part.find("hold", condition=cond)
+        if lab is not None:
+            out[conds[cond]] = lab.index
+    return out
+
+
+def foot_state_labels(part: Part, extension: np.ndarray, flexion: np.ndarray, rolled: np.ndarray) -> np.ndarray:
+    """Part-local foot labels from (T,) masks: Extension / Flexion / Relaxed, Unknown where rolled on its edge."""
+    out = np.full(extension.shape[0], part.find("state", condition="relaxed").index)
+    out[extension] = part.find("state", condition="extension").index
+    out[flexion] = part.find("state", condition="flexion").index
+    out[rolled] = part.label("unknown").index
+    return out
+
+
 @dataclass
 class Labels:
     """Per-frame labels: ``ids`` (T, 16) int16 global label ids (taxonomy order of parts), ``fps``."""
@@ -313,14 +374,19 @@ class MovementLabeller:
             for c in range(3):
                 filled[:, j, c] = np.interp(t_idx, t_idx[ok], kp[ok, j, c]) if ok.any() else 0.0
         win = max(1, int(round(self.th["smoothing_s"] * fps)) | 1)
+        raw = None
         if self.smooth and win > 1:
+            raw = filled
             filled = uniform_filter1d(filled, win, axis=0, mode="nearest")
-        signals = body_signals(filled, up, self._flipping(filled, fps, up))
+        flipping = self._flipping(filled, fps, up)
+        signals = body_signals(filled, up, flipping)
+        # kicks last a few frames: smoothing would flatten their peak speed, so it is read unsmoothed
+        raw_signals = body_signals(raw, up, flipping) if raw is not None else signals
         ids = np.zeros((T, len(self.tax.parts)), dtype=np.int16)
         for part in self.tax.parts:
             names = PART_KEYPOINTS.get(part.name) or PART_KEYPOINTS[part.measure]
             part_missing = missing[:, [J[n] for n in names]].any(1)
-            local = self._label_part(part, signals[part.name], fps)
+            local = self._label_part(part, signals[part.name], fps, raw_signals[part.name])
             local[part_missing] = part.label("unknown").index
             ids[:, part.index] = np.array([part.labels[i].id for i in local], dtype=np.int16)
         return Labels(ids, float(fps), self.tax)
@@ -333,7 +399,7 @@ class MovementLabeller:
         thr = self.th["somersault_speed_rad_s"]
         return _hysteresis(rate, thr, thr * 0.6)
 
-    def _label_part(self, part: Part, sig: PartSignals, fps: float) -> np.ndarray:
+    def _label_part(self, part: Part, sig: PartSignals, fps: float, raw: PartSignals | None = None) -> np.ndarray:
         th = self.th
         T = sig.components.shape[0] if sig.components.size else sig.extra["angle_deg"].shape[0]
         unknown = part.label("unknown").index
@@ -361,16 +427,13 @@ class MovementLabeller:
         motion = list(sig.motion)
         dom = np.argmax(np.abs(vel[:, motion]), axis=1)
         fast = part.find("fast")
-        table = np.full((len(motion), 2), unknown)
-        for k, ci in enumerate(motion):
-            for si, sign in enumerate((-1, 1)):
-                lab = part.find("direction", component=sig.names[ci], sign=sign)
-                if lab is not None:
-                    table[k, si] = lab.index
+        table = direction_table(part, [sig.names[ci] for ci in motion])
         dom_vel = np.take_along_axis(vel[:, motion], dom[:, None], 1)[:, 0]
         direction = table[dom, (dom_vel > 0).astype(int)]
         if fast is not None:
-            direction = np.where(speed > th["kick_speed_rad_s"], fast.index, direction)
+            raw_speed = speed if raw is None else np.linalg.norm(
+                np.gradient(raw.components[:, motion], axis=0) * fps, axis=1)
+            direction = np.where(raw_speed > th["kick_speed_rad_s"], fast.index, direction)
         out[moving] = direction[moving]
         out[special >= 0] = special[special >= 0]
         out = _merge_short(out, moving, min_run)
@@ -379,19 +442,7 @@ class MovementLabeller:
             out = self._apply_patterns(part, sig, fps, moving, out, special)
 
         still = ~moving
-        out[still] = part.label("still").index
-        if "direction" in sig.extra:
-            d = sig.extra["direction"]
-            away = np.degrees(np.arccos(np.clip(-d[:, 2], -1, 1))) > th["hold_away_from_down_deg"]
-            conds = {"high": d[:, 2] > (0.2 if part.measure == "limb" and "arm" in part.name else -0.5)}
-            fwd_dom = np.abs(d[:, 0]) >= np.abs(d[:, 1])
-            conds["forward"] = away & fwd_dom & (d[:, 0] > 0)
-            conds["backward"] = away & fwd_dom & (d[:, 0] <= 0)
-            conds["side"] = away & ~fwd_dom
-            for cond in ("side", "backward", "forward", "high"):  # later ones take precedence
-                lab = part.find("hold", condition=cond)
-                if lab is not None:
-                    out[still & conds[cond]] = lab.index
+        out[still] = still_labels(part, sig.extra.get("direction"), th, T)[still]
         return out
 
     def _apply_patterns(self, part, sig, fps, moving, out, special):
@@ -432,11 +483,7 @@ class MovementLabeller:
         extension = _hysteresis(angle, ext + hyst, ext - hyst)
         flexion = _hysteresis(-angle, -(flx - hyst), -(flx + hyst))
         rolled = _hysteresis(roll, th["foot_roll_deg"] + hyst, th["foot_roll_deg"] - hyst)
-        out = np.full(angle.shape[0], part.find("state", condition="relaxed").index)
-        out[extension] = part.find("state", condition="extension").index
-        out[flexion] = part.find("state", condition="flexion").index
-        out[rolled] = part.label("unknown").index
-        return out
+        return foot_state_labels(part, extension, flexion, rolled)
 
 
 def label_keypoints(keypoints: np.ndarray, fps: float, up=(0.0, 0.0, 1.0), patterns: bool = True) -> Labels:

@@ -9,10 +9,9 @@ shrunk by :data:`MARGIN_RAD`, is C1-smooth, and the root is placed afterwards: i
 point on the floor (z = 0), its horizontal position keeps the stance foot fixed (no skating); during a flip it
 follows a ballistic arc.
 
-Ground-truth labels: frames get the label of the primitive that produced them where the primitive defines a
-shape (circles, swings, figure 8, jitter = Unknown, somersault); directional, hold and foot-state labels come
-from the taxonomy's rules applied to the generator's exact, noise-free kinematics
-(:class:`hdvr.movements.labeller.MovementLabeller` with ``patterns=False, smooth=False``).
+Ground-truth labels are declared by the primitives themselves (:mod:`hdvr.synth.declare`): every primitive is
+recorded as an :class:`~hdvr.synth.declare.Intent` (group, kind, frames) and shape primitives as
+:class:`Declared` spans; the labels follow from those and the planned trajectories, not from the labeller.
 """
 
 from __future__ import annotations
@@ -23,9 +22,10 @@ import numpy as np
 from scipy.ndimage import maximum_filter1d, uniform_filter1d
 
 from hdvr import dh
-from hdvr.movements.labeller import MovementLabeller, _runs
+from hdvr.movements.labeller import _runs
 from hdvr.movements.taxonomy import load_taxonomy
 from hdvr.skeleton import ROOT_QPOS, Skeleton
+from hdvr.synth.declare import Intent, declared_labels, plan_kinematics
 from hdvr.synth.genres import GenreStyle, genre_style
 
 MARGIN_RAD = 0.05
@@ -49,12 +49,33 @@ GROUP_JOINTS = {
     "right_arm": _j("right_shoulder_abduct", "right_shoulder_flex", "right_shoulder_rotate", "right_elbow_flex"),
 }
 # Body parts that see a shape made by a group's joints (declared pattern labels go to these parts).
+FLEX_JOINTS = set(_j("left_shoulder_flex", "right_shoulder_flex"))
+#: partners facing each other raise their arms forward at most this far (rad of shoulder flexion), so that
+#: their hands do not meet (the arms are not choreographed into a hold)
+PARTNER_REACH_CAP_RAD = 0.7
 ARM_PARTS = {"shoulder": ("upper_arm", "lower_arm"), "forearm": ("lower_arm",)}
 
 
 def leg_joints(side: str) -> dict[str, int]:
     return {k: JI[f"{side}_{k}"] for k in ("hip_adduct", "hip_extend", "hip_rotate", "knee_flex", "ankle_plantarflex",
                                             "ankle_invert", "toe_flex")}
+
+
+def leg_ik(x, z, l1: float, l2: float, knee_min: float):
+    """Sagittal two-link leg: hip_extend and knee_flex (rad) that put the ankle ``x`` behind and ``z`` below the
+    hip (metres; thigh ``l1``, shank ``l2``); the knee bends at least ``knee_min`` (targets out of reach are
+    pulled in). Convention: segment angles from straight down, positive backward; shank = hip_extend + knee."""
+    x, z = np.asarray(x, dtype=float), np.asarray(z, dtype=float)
+    r_max = np.sqrt(l1 * l1 + l2 * l2 + 2 * l1 * l2 * np.cos(knee_min))
+    r = np.minimum(np.hypot(x, z), r_max)
+    knee = np.arccos(np.clip((r * r - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1, 1))
+    theta = np.arctan2(x, z) - np.arctan2(l2 * np.sin(knee), l1 + l2 * np.cos(knee))
+    return theta, knee
+
+
+def leg_fk(theta, knee, l1: float, l2: float):
+    """Ankle (x behind, z below the hip; metres) of the sagittal two-link leg (inverse of :func:`leg_ik`)."""
+    return (l1 * np.sin(theta) + l2 * np.sin(theta + knee), l1 * np.cos(theta) + l2 * np.cos(theta + knee))
 
 
 def ramp_profile(n: int, ramp: float = 0.2) -> np.ndarray:
@@ -94,7 +115,8 @@ class Declared:
 @dataclass
 class Choreography:
     """One dancer's motion. ``qpos`` (T, 41) world; ``keypoints`` (T, 25, 3) world metres; ``labels`` (T, 16) global
-    label ids; ``airborne`` (T,) bool (flip frames); ``primitives`` list of (group, kind, start, end)."""
+    label ids declared by the primitives; ``airborne`` (T,) bool (flip frames); ``primitives`` list of
+    :class:`~hdvr.synth.declare.Intent`; ``declared`` list of :class:`Declared` shape spans."""
 
     genre: str
     fps: float
@@ -105,6 +127,9 @@ class Choreography:
     primitives: list = field(default_factory=list)
     declared: list = field(default_factory=list)
     stance: np.ndarray | None = None  # (T,) 0 both / automatic, 1 left foot, 2 right foot carries the weight
+    walks: list = field(default_factory=list)  # (start, end) frames of travelling phrases
+    bones: np.ndarray | None = None  # (9,) bone lengths (metres) of the dancer
+    between_m: float | None = None  # deepest penetration into other dancers of its clip (m), once checked
 
 
 class _Track:
@@ -126,7 +151,7 @@ class ChoreographyGenerator:
         self.sk = skeleton or Skeleton()
         self.fps = float(fps)
         self.tax = load_taxonomy()
-        self.rule_labeller = MovementLabeller(self.tax, patterns=False, smooth=True)
+        self.reach_cap = None
 
     # ---- helpers ---------------------------------------------------------------------------------------------
     def _beat_frames(self, style: GenreStyle, bpm: float) -> float:
@@ -143,6 +168,8 @@ class ChoreographyGenerator:
             j = joints[i]
             lo = REST[j] + style.amplitude * (LOWER[j] - REST[j])
             hi = REST[j] + style.amplitude * (UPPER[j] - REST[j])
+            if j in FLEX_JOINTS and self.reach_cap is not None:
+                hi = min(hi, self.reach_cap)
             for _ in range(8):
                 v = rng.uniform(lo, hi)
                 if abs(v - current[i]) >= min(min_delta, 0.45 * (hi - lo)):
@@ -208,7 +235,7 @@ class ChoreographyGenerator:
             if kind == "move":
                 target = self._target(joints, cur, style, rng)
                 if group.endswith("_arm") and rng.random() < 0.25:  # raise the arm above the horizontal
-                    k = int(rng.integers(0, 2))
+                    k = int(rng.integers(0, 2)) if self.reach_cap is None else 0  # partners: sideways / up
                     target[k] = rng.uniform(1.78, 1.9)
                     if abs(target[k] - cur[k]) < 0.3:
                         target[k] = rng.uniform(0.0, 0.6)
@@ -260,6 +287,8 @@ class ChoreographyGenerator:
                 return pre, m, (f"{side}_lower_arm",), "circle"
             sel = _j(f"{side}_shoulder_abduct", f"{side}_shoulder_flex")
             centre = np.r_[rng.uniform(0.3, 0.9), rng.uniform(0.2, 0.8), cur[2], rng.uniform(-0.3, 0.0)]
+            if self.reach_cap is not None:  # partners: the arm's forward swing stays below the cap
+                centre[1] = min(centre[1], self.reach_cap - (0.45 if kind == "circle" else 0.6))
             pre = self._settle(h, joints, t, cur, centre)
             if kind == "circle":
                 m = self._oscillate(h, sel, t + pre, centre[:2], [0.45, 0.45], [0.0, np.pi / 2], freq, periods)
@@ -302,8 +331,9 @@ class ChoreographyGenerator:
         T = h.shape[0]
         L, R = leg_joints("left"), leg_joints("right")
         allj = sorted(set(L.values()) | set(R.values()))
-        kinds = list(style.legs)
-        w = np.array([style.legs[k] for k in kinds], dtype=float)
+        kinds = list(style.legs) + (["walk"] if style.walk > 0 else [])
+        w = np.array([style.legs[k] for k in kinds if k != "walk"] + ([style.walk] if style.walk > 0 else []),
+                     dtype=float)
         t = 0
         while t < T:
             cur = h[t - 1, allj].copy() if t > 0 else h[0, allj].copy()
@@ -350,6 +380,14 @@ class ChoreographyGenerator:
                 down += self._write_move(h, gj, t + up + spin + down, lifted, REST[gj], speed)
                 n = up + spin + down
                 self.stance[t:t + n] = 2 if side == "left" else 1
+            elif kind == "walk":
+                n = self._walk(h, yaw, t, style, beat, rng)
+                # the legs swing forward and back like pendulums: a swing of each leg segment when the steps
+                # reverse the legs at least twice per pattern window (the vocabulary's swinging), else the steps
+                # are directional moves
+                if n and self.step_frames <= self.fps * self.tax.thresholds["pattern_window_s"] / 2:
+                    declared.append(Declared(t, t + n, ("left_upper_leg", "left_lower_leg", "right_upper_leg",
+                                                        "right_lower_leg"), "oscillation"))
             elif kind == "flip":
                 n = self._flip(pitch, t, rng)
                 if n:
@@ -371,9 +409,89 @@ class ChoreographyGenerator:
             t += n
             t += self._hold(h, allj, t, max(int(beat * rng.choice([1, 2])), int(0.4 * self.fps)), h[t - 1, allj])
 
+    def _walk(self, h, yaw, t, style, beat, rng):
+        """Travelling: 3-6 steps forward or backward (inverted pendulum: the stance leg swings from in front to
+        behind while the other leg swings through with a bent knee and lands symmetrically, so both feet are on
+        the floor at each change of weight). The stance foot stays flat and pinned (:meth:`place_root` moves the
+        root over it), so the root travels 2 L sin(a) per step (L hip -> ankle, a = step angle, rad). Solo dancers
+        curve their path by pivoting the stance foot (up to ``style.curve_rad`` per step); every path turns back
+        toward the start when it would leave ``style.travel_radius_m``. Returns the frames written."""
+        T = h.shape[0]
+        legs = {"left": leg_joints("left"), "right": leg_joints("right")}
+        bones = self.sk.bone_lengths
+        leg_len = float(bones[6] + bones[7])
+        a = rng.uniform(*style.step_rad)
+        steps = int(rng.integers(3, 7))
+        # frames of a step (the first and last: half steps): one per beat, two per beat in slow music
+        full = max(int(round(beat if beat <= 0.6 * self.fps else beat / 2)), int(0.5 * self.fps))
+        half = max(int(round(0.75 * full)), int(0.4 * self.fps))
+        self.step_frames = full
+        heading = self.start_yaw + yaw[t - 1 if t else 0]
+        forward = np.array([np.cos(heading), np.sin(heading)])
+        to_home = self.home - self.pos
+        length = 2 * leg_len * np.sin(a) * steps
+        if np.linalg.norm(to_home) + length > style.travel_radius_m:  # head back toward the start
+            sign = 1.0 if forward @ to_home >= 0 else -1.0
+            # about as many steps as bring the dancer home (the first and last are half steps)
+            steps = int(np.clip(round(np.linalg.norm(to_home) / (2 * leg_len * np.sin(a))), 3, 6))
+            want = np.arctan2(to_home[1], to_home[0]) - np.arctan2(sign * forward[1], sign * forward[0])
+            want = (want + np.pi) % (2 * np.pi) - np.pi
+            curve = 0.0 if style.couple else max(style.curve_rad, 0.25)  # partners keep their line
+            delta = float(np.clip(want / steps, -curve, curve))
+            if np.linalg.norm(to_home) < 0.3 and abs(forward @ to_home) < 0.1:
+                sign = float(rng.choice([-1.0, 1.0]))
+        else:
+            sign = 1.0 if rng.random() < 0.7 else -1.0
+            delta = float(rng.uniform(-style.curve_rad, style.curve_rad))
+        l1, l2 = float(bones[6]), float(bones[7])
+        k0 = float(REST[legs["left"]["knee_flex"]])
+        r_max = np.sqrt(l1 * l1 + l2 * l2 + 2 * l1 * l2 * np.cos(k0))  # hip -> ankle with the rest knee bend
+        G = legs["left"]
+        x_c, z_rest = leg_fk(REST[G["hip_extend"]], REST[G["knee_flex"]], l1, l2)  # the rest pose's ankle
+        r_walk = 0.985 * r_max  # knees never quite straight while walking (the IK stays well conditioned)
+        X = r_walk * np.sin(a)  # ankle in front of / behind its rest place at a weight change (m)
+        H = np.sqrt(r_walk ** 2 - (abs(x_c) + X) ** 2)  # hip height above the ankles while walking (m)
+        # phases: (stance ankle's x behind its rest place at start, at end; hip height at start, at end; frames)
+        phases = ([(0.0, X, z_rest, H, half)] + [(-X, X, H, H, full)] * (steps - 1) + [(-X, 0.0, H, z_rest, half)])
+        if t + sum(ph[-1] for ph in phases) > T:
+            return 0
+        stance_side = str(rng.choice(["left", "right"]))
+        lift = rng.uniform(0.05, 0.09)  # the swinging foot's clearance at mid-swing (m)
+        t0 = t
+        for k, (x0, x1, z0, z1, n) in enumerate(phases):
+            swing_side = "right" if stance_side == "left" else "left"
+            p = 0.5 - 0.5 * np.cos(np.pi * (np.arange(1, n + 1) / n))  # C1: zero speed at each weight change
+            x = sign * (x0 + (x1 - x0) * p)  # stance ankle behind the hip (m); the swinging ankle mirrors it
+            # the hip leaves / reaches its rest height with zero slope: near the straight rest knee the IK is
+            # steep (knee ~ sqrt of the missing reach), so a linear approach would snap the knee
+            z = z0 + (z1 - z0) * (p * p if k == 0 else 1 - (1 - p) ** 2 if k == len(phases) - 1 else p)
+            # the swinging foot rises at once (sin, not sin^2: it does not brush the floor while it travels); its
+            # speed is still zero at lift-off and touch-down, where p has zero slope
+            for side, xs, zs in ((stance_side, x_c + x, z), (swing_side, x_c - x, z - lift * np.sin(np.pi * p))):
+                G = legs[side]
+                theta, knee = leg_ik(xs, zs, l1, l2, k0)
+                flat = REST[G["hip_extend"]] + REST[G["knee_flex"]] + REST[G["ankle_plantarflex"]]
+                h[t:t + n, G["hip_extend"]] = theta
+                h[t:t + n, G["knee_flex"]] = knee
+                h[t:t + n, G["ankle_plantarflex"]] = flat - theta - knee  # the sole stays level
+                for j in ("hip_adduct", "hip_rotate", "ankle_invert", "toe_flex"):
+                    h[t:t + n, G[j]] = REST[G[j]]
+            self.stance[t:t + n] = 1 if stance_side == "left" else 2
+            yaw[t:t + n] = yaw[t - 1 if t else 0] + delta * p
+            yaw[t + n:] = yaw[t + n - 1]
+            self.pos = self.pos + sign * (abs(x1) + abs(x0)) * np.array([np.cos(heading), np.sin(heading)])
+            heading += delta
+            t += n
+            stance_side = swing_side
+        self.walks.append((t0, t))
+        return t - t0
+
     def _turn(self, h, yaw, t, style, beat, rng):
         T = h.shape[0]
-        angle = rng.choice([-1, 1]) * rng.uniform(0.5, 1.0) * 2 * np.pi * (2 if style.name == "ballet" else 1)
+        if style.couple:  # partners turn whole turns, so they face each other again afterwards
+            angle = rng.choice([-1, 1]) * 2 * np.pi
+        else:
+            angle = rng.choice([-1, 1]) * rng.uniform(0.5, 1.0) * 2 * np.pi * (2 if style.name == "ballet" else 1)
         rate = rng.uniform(3.0, 6.0)
         full = max(int(round(self.fps * abs(angle) / rate)), 4)
         n = min(full, T - t)
@@ -465,10 +583,10 @@ class ChoreographyGenerator:
             n = 0
             if kind == "move" and rng.random() < 0.5:  # a held leg position: front, side, back or high
                 tgt = cur.copy()
-                pos = rng.choice(["front", "side", "back", "high"])
+                pos = rng.choice(["front", "side", "back", "back", "high"])
                 tgt[:4] = {"front": [0.0, -rng.uniform(0.7, 1.0), cur[2], rng.uniform(0.0, 0.1)],
                            "side": [-rng.uniform(0.6, 0.85), -rng.uniform(0.0, 0.1), cur[2], 0.0],
-                           "back": [0.0, rng.uniform(0.5, 0.75), cur[2], rng.uniform(0.0, 1.3)],
+                           "back": [0.0, rng.uniform(0.6, 0.85), cur[2], rng.uniform(0.0, 1.3)],
                            "high": [-rng.uniform(0.0, 0.3), -rng.uniform(1.6, 1.9), cur[2], rng.uniform(0.0, 0.2)]}[pos]
                 n = self._write_move(h, gj, t, cur, tgt, self._speed(style, rng))
             elif kind == "move":
@@ -554,29 +672,36 @@ class ChoreographyGenerator:
         return t - t0
 
     # ---- root placement --------------------------------------------------------------------------------------
-    def _steady_head(self, h, declared, iterations=2):
-        """Neck circles and shakes tilt the neck as an Euler sequence, which also turns the head a little about
-        the neck (twice per circle). Cancel that with the neck twist, so the head holds its own direction."""
-        from hdvr.movements.labeller import body_signals
+    def _steady_head(self, h, prims, iterations=2):
+        """Neck moves, circles and shakes tilt the neck as an Euler sequence (bend, then flex), which also turns
+        the head a little about the neck (the twist of a combined tilt). Cancel that with the neck twist, so the head
+        keeps the direction its own primitives give it, as the neck primitive intends."""
+        from hdvr.movements.labeller import head_yaw as measured_yaw
 
         j = JI["neck_twist"]
         tilt = _j("neck_bend", "neck_flex")
-        for d in declared:
-            if d.parts != ("neck",):
+        for g, _, s, e in prims:
+            if g != "neck":
                 continue
-            s, e = d.start, min(d.end, h.shape[0])
+            e = min(e, h.shape[0])
+            if e - s < 3:
+                continue
+            s = max(s - 1, 0)
 
             def head_yaw(hinges):
                 q = np.zeros((e - s, 41))
                 q[:, 3] = 1.0
                 q[:, ROOT_QPOS:] = hinges
-                return body_signals(self.sk.keypoints(q))["head"].components[:, 0]
+                return measured_yaw(self.sk.keypoints(q))
 
             still_neck = h[s:e].copy()
             still_neck[:, tilt] = h[s, tilt]  # the same head motion without the neck's shape
             reference = head_yaw(still_neck)
-            for _ in range(iterations):  # the shape's envelope starts and ends at rest: so does the correction
+            before = h[s:e, j].copy()
+            for _ in range(iterations):
                 h[s:e, j] = np.clip(h[s:e, j] - (head_yaw(h[s:e]) - reference), LOWER[j], UPPER[j])
+            # a move ends on a new tilt: its correction stays while the neck holds it (shapes end at rest: ~0)
+            h[e:, j] = np.clip(h[e:, j] + (h[e - 1, j] - before[-1]), LOWER[j], UPPER[j])
         return h
 
     def _clear_gesture_foot(self, h, stance, clearance=0.02, iterations=6):
@@ -631,7 +756,8 @@ class ChoreographyGenerator:
         qz = np.stack([np.cos(half_y), np.zeros(T), np.zeros(T), np.sin(half_y)], 1)
         qy = np.stack([np.cos(half_p), np.zeros(T), np.sin(half_p), np.zeros(T)], 1)
         q[:, 3:7] = _quat_mul(qz, qy)
-        rel = self.sk.keypoints(q)  # root at the origin
+        kin = plan_kinematics(self.sk, q)  # root at the origin: keypoints and body rotations of the plan
+        rel = kin["keypoints"]
         airborne = np.abs(np.gradient(pitch)) > 1e-9
         airborne = np.convolve(airborne, np.ones(3), mode="same") > 0
         soles = {s: rel[:, list(ix)] for s, ix in SOLE_KEYPOINTS.items()}
@@ -668,6 +794,7 @@ class ChoreographyGenerator:
         step[airborne[1:] | airborne[:-1]] = 0.0
         root[:, :2] = np.asarray(start_xy, dtype=float) + np.r_[np.zeros((1, 2)), np.cumsum(step, axis=0)]
         q[:, :3] = root
+        self.kinematics = {**kin, "keypoints": rel + root[:, None, :]}  # rotations do not depend on the root position
         return q, rel + root[:, None, :], airborne
 
     # ---- top level -------------------------------------------------------------------------------------------
@@ -679,6 +806,7 @@ class ChoreographyGenerator:
         beat = self._beat_frames(style, bpm)
         if mirror_of is not None:
             return self._mirror(mirror_of, start_xy, start_yaw)
+        self.reach_cap = PARTNER_REACH_CAP_RAD if style.couple else None
         h = np.tile(REST, (T, 1))
         yaw = np.zeros(T)
         pitch = np.zeros(T)
@@ -686,7 +814,8 @@ class ChoreographyGenerator:
         prims: list = []
         for group in ("head", "neck", "trunk"):
             self._group(h, group, style, getattr(style, group), beat, rng, declared, prims, self._parts_for_shape)
-        if rng.random() < style.symmetric_arms:
+        symmetric = rng.random() < style.symmetric_arms
+        if symmetric:
             self._group(h, "left_arm", style, style.arm, beat, rng, declared, prims, self._parts_for_shape)
             _mirror_arm(h)
             declared += [Declared(d.start, d.end, tuple(p.replace("left", "right") for p in d.parts), d.label)
@@ -696,51 +825,50 @@ class ChoreographyGenerator:
                 self._group(h, group, style, style.arm, beat, rng, declared, prims, self._parts_for_shape)
         self.stance = np.zeros(T, dtype=np.int8)
         self.airtime = np.zeros(T, dtype=bool)
+        self.home = np.asarray(start_xy, dtype=float)
+        self.pos = self.home.copy()
+        self.start_yaw = float(start_yaw)
+        self.walks = []
         self._legs(h, yaw, pitch, style, beat, rng, declared, prims)
         h = np.clip(h, LOWER, UPPER)
-        h = self._steady_head(h, declared)
+        h = self._steady_head(h, prims)
         h = self._clear_gesture_foot(h, self.stance)
         q, kp, airborne = self.place_root(h, yaw, pitch, start_xy, start_yaw, self.stance)
-        labels = self.ground_truth_labels(kp, declared)
-        return Choreography(style.name, self.fps, q, kp, labels, airborne, prims, declared, self.stance.copy())
-
-    def ground_truth_labels(self, keypoints, declared) -> np.ndarray:
-        """Rules on exact kinematics, then the primitives' declared shape labels on the frames where the part moves
-        (flips and whole-body turns found by the rules stay)."""
-        base = self.rule_labeller.label(keypoints, self.fps)
-        ids = base.ids.copy()
-        for d in declared:
-            for pname in d.parts:
-                part = self.tax.part(pname)
-                col = ids[:, part.index]
-                quiet = np.isin(col, [lab.id for lab in part.labels if lab.kind in ("hold", "still")])
-                special = np.isin(col, [lab.id for lab in part.labels if lab.kind in ("somersault", "turning")])
-                if d.label == "somersault":  # the rule on the exact kinematics marks the flip itself
-                    continue
-                if d.label == "jitter":
-                    lab = part.label("unknown")
-                else:
-                    lab = part.find("pattern", pattern=d.label)
-                    if lab is None:
-                        continue
-                # the whole moving run(s) that the shape makes (smoothing spreads a run by a frame or two)
-                for s, e, q in _runs(quiet):
-                    overlap = max(0, min(e, d.end) - max(s, d.start))
-                    if not q and overlap >= 0.5 * (e - s):
-                        col[s:e] = np.where(special[s:e], col[s:e], lab.id)
-        return ids
+        intents = [Intent("legs" if g.endswith("_leg") else g, k, s, e) for g, k, s, e in prims]
+        if symmetric:  # the right arm performs the left arm's primitives
+            intents += [Intent("right_arm", it.kind, it.start, it.end) for it in intents if it.group == "left_arm"]
+        labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps,
+                                 self.kinematics)
+        return Choreography(style.name, self.fps, q, kp, labels, airborne, intents, declared, self.stance.copy(),
+                            list(self.walks), self.sk.bone_lengths)
 
     def _mirror(self, lead: Choreography, start_xy, start_yaw) -> Choreography:
         """The partner: the lead's motion mirrored left/right (a couple facing each other moves as mirror images)."""
         h = _mirror_hinges(lead.qpos[:, ROOT_QPOS:])
+        bones_l = lead.bones if lead.bones is not None else self.sk.bone_lengths
+        bones_f = self.sk.bone_lengths
+        k0 = float(REST[JI["left_knee_flex"]])
+        scale = (bones_f[6] + bones_f[7]) / (bones_l[6] + bones_l[7])
+        for s, e in lead.walks:  # the lead walks forward, the partner facing it backward, the same distance
+            for side in ("left", "right"):
+                G = leg_joints(side)
+                flat = REST[G["hip_extend"]] + REST[G["knee_flex"]] + REST[G["ankle_plantarflex"]]
+                x, z = leg_fk(h[s:e, G["hip_extend"]], h[s:e, G["knee_flex"]], bones_l[6], bones_l[7])
+                theta, knee = leg_ik(-x, z * scale, bones_f[6], bones_f[7], k0)
+                h[s:e, G["hip_extend"]] = theta
+                h[s:e, G["knee_flex"]] = knee
+                h[s:e, G["ankle_plantarflex"]] = flat - theta - knee
         yaw = -_unwrapped_yaw(lead.qpos)
         yaw = yaw - yaw[0]
         pitch = _unwrapped_pitch(lead.qpos)
         stance = np.where(lead.stance == 1, 2, np.where(lead.stance == 2, 1, 0)).astype(np.int8)
         q, kp, airborne = self.place_root(h, yaw, pitch, start_xy, start_yaw, stance)
         declared = [Declared(d.start, d.end, tuple(_swap_side(p) for p in d.parts), d.label) for d in lead.declared]
-        labels = self.ground_truth_labels(kp, declared)
-        return Choreography(lead.genre, self.fps, q, kp, labels, airborne, list(lead.primitives), declared, stance)
+        intents = [Intent(_swap_side(it.group), it.kind, it.start, it.end) for it in lead.primitives]
+        labels = declared_labels(self.tax, self.sk, q, start_yaw + yaw, pitch, intents, declared, self.fps,
+                                 self.kinematics)
+        return Choreography(lead.genre, self.fps, q, kp, labels, airborne, intents, declared, stance,
+                            list(lead.walks), self.sk.bone_lengths)
 
 
 def _swap_side(name: str) -> str:

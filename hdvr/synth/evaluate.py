@@ -1,6 +1,7 @@
 """The labeller against the generator: per-part and per-label F-scores on generated motion.
 
-The generator's labels (primitive shapes + rules on its exact kinematics) are the reference; the labeller sees
+The labels the generator's primitives declare (:mod:`hdvr.synth.declare`: from the intents and their planned
+trajectories, not from the labeller) are the reference; the labeller sees
 only BODY_25 keypoints, here in a random camera frame (``up`` given as the camera-frame vertical), for dancers of
 random stature, optionally with Gaussian keypoint noise. One label per part and frame, so the micro F-score of a
 part equals its frame accuracy; the macro F-score averages the F-scores of the labels that occur.

@@ -7,7 +7,7 @@ fraction of each joint's range used (amplitude), and scene facts (couples, turns
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from hdvr.errors import HDVRError
 
@@ -39,6 +39,10 @@ class GenreStyle:
     legs: dict = field(default_factory=dict)  # phrases: "gesture", "plie", "relieve", "turn", "hips_*", "hold", "flip"
     gesture: dict = field(default_factory=dict)  # gesture-leg primitives
     symmetric_arms: float = 0.3  # probability that both arms do the same (mirrored) primitive
+    walk: float = 0.0  # weight of travelling (walk) phrases among the leg phrases
+    step_rad: tuple[float, float] = (0.2, 0.3)  # hip swing of a step each side of vertical (rad)
+    curve_rad: float = 0.0  # largest heading change per step of a solo dancer (rad): curved paths
+    travel_radius_m: float = 1.0  # paths stay within this distance of the dancer's start (metres)
 
 
 def _style(name, bpm, bars, speed, amp, couple, osc, head, neck, trunk, arm, legs, gesture, sym=0.3):
@@ -107,6 +111,18 @@ STYLES: dict[str, GenreStyle] = {
                     {"move": 4, "swing": 1, "circle": 0.6, "knee": 0.8, "foot": 1, "hold": 1.5, "kick": 0.2, "jitter": 0.1},
                     sym=0.5),
 }
+
+
+#: Floor paths per genre (walk weight, step size, curvature, radius): waltz travels on curves (line of dance,
+#: rotating), tango walks straight promenades, ballet crosses on diagonals, swing / rumba / flamenco travel a
+#: little, belly dance less, hip hop and tap stay mostly in place.
+TRAVEL = {"ballet": (2.5, (0.3, 0.4), 0.05, 2.2), "belly_dance": (0.5, (0.15, 0.25), 0.2, 0.8),
+          "flamenco": (1.0, (0.2, 0.3), 0.2, 1.2), "hip_hop": (0.4, (0.15, 0.25), 0.2, 0.6),
+          "rumba": (2.5, (0.2, 0.3), 0.0, 1.2), "swing": (2.5, (0.2, 0.3), 0.0, 1.2),
+          "tango": (5.0, (0.3, 0.4), 0.0, 2.0), "tap": (0.4, (0.15, 0.2), 0.15, 0.6),
+          "waltz": (6.0, (0.25, 0.35), 0.0, 2.0)}
+for _name, (_w, _step, _curve, _radius) in TRAVEL.items():
+    STYLES[_name] = replace(STYLES[_name], walk=_w, step_rad=_step, curve_rad=_curve, travel_radius_m=_radius)
 
 
 def genre_style(name: str) -> GenreStyle:

@@ -21,7 +21,8 @@ Clip folder ``clip_{index:05d}/`` (all files written atomically; ``meta.json`` l
 - ``labels.json``: genre, fps, per dancer the movement segments (part, label, label_id, start, end, start_s,
   end_s; frames, end exclusive).
 - ``meta.json``: seed, clip index, genre, dancer count, frames, heights, motion checks (joint-limit violation,
-  foot penetration and skating), render speed.
+  foot penetration and skating, deepest penetration between dancers' geoms), visible / occluded keypoint
+  fractions, render speed.
 """
 
 from __future__ import annotations
@@ -96,6 +97,9 @@ def generate_motion(spec: ClipSpec):
             dancers.append(gen.generate(spec.genre, spec.seconds, rng, positions[k], yaws[k], mirror_of=dancers[k - 1]))
         else:
             dancers.append(gen.generate(spec.genre, spec.seconds, rng, positions[k], yaws[k]))
+    from hdvr.synth.scene import separate_dancers
+
+    separate_dancers(dancers, heights)  # no dancer passes through another
     return dancers, heights
 
 
@@ -128,7 +132,7 @@ def mocap_motion(spec: ClipSpec, bvh_paths: list[str]):
 def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, motion=None) -> dict:
     """Generate, (render) and write one clip; returns its meta dict. Skips nothing: callers check ``is_done``.
     ``motion``: precomputed (dancers, heights), e.g. from :func:`mocap_motion`."""
-    from hdvr.synth.render import (OUTSIDE, VISIBLE, SceneRenderer, boxes_overlap, keypoint_boxes,
+    from hdvr.synth.render import (OCCLUDED, OUTSIDE, VISIBLE, SceneRenderer, boxes_overlap, keypoint_boxes,
                                    keypoint_visibility,
                                    random_camera_path)
     from hdvr.synth.scene import build_scene_xml, random_looks, random_stage
@@ -220,6 +224,13 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
     violation = max(float((np.maximum(dh.LOWER - d.qpos[:, 7:], 0) + np.maximum(d.qpos[:, 7:] - dh.UPPER, 0)).max())
                     for d in dancers)
     feet = [foot_metrics(d.keypoints, d.airborne, d.fps, stance=d.stance) for d in dancers]
+    from hdvr.synth.scene import collision_model, inter_dancer_penetration
+
+    if all(d.between_m is not None for d in dancers):  # checked when the motion was made
+        between = np.array([d.between_m for d in dancers])
+    else:
+        between = inter_dancer_penetration(collision_model(list(heights)), np.stack([d.qpos for d in dancers])) \
+            if n > 1 else np.zeros((1, 1))
     frames = T
     meta = {"format_version": FORMAT_VERSION, "clip": spec.name, "index": spec.index, "seed": spec.seed,
             "genre": spec.genre, "n_dancers": n, "frames": frames, "fps": spec.fps, "seconds": spec.seconds,
@@ -227,7 +238,9 @@ def make_clip(out_dir: str | os.PathLike, spec: ClipSpec, render: bool = True, m
             "focal_px": float(intr.focal), "joint_limit_violation_rad": violation,
             "foot_penetration_m": max(f["penetration_m"] for f in feet),
             "foot_skate_max_m_s": max(f["skate_max_m_s"] for f in feet),
+            "inter_dancer_penetration_m": float(between.max()),
             "visible_fraction": float((vis == VISIBLE).mean()),
+            "occluded_fraction": float((vis == OCCLUDED).sum() / max((vis > 0).sum(), 1)),
             "motion_seconds": t_motion, "render_seconds": render_seconds,
             "render_fps": T / render_seconds if render_seconds > 0 else None,
             "render_cpu_seconds": render_cpu_seconds,
