@@ -164,9 +164,21 @@ def main() -> int:
     write_text_atomic(args.out_json, json.dumps({"rows": rows, "speed": speed, "ablation": ablation,
                                                  "summary": summary, "reference": reference, "machine": machine()}, indent=1,
                                                 default=float))
-    write_text_atomic(args.out_md, markdown(summary, speed, ablation, args, reference))
+    write_section(Path(args.out_md), "## 3D fitting", markdown(summary, speed, ablation, args, reference))
     print(f"wrote {args.out_md} and {args.out_json}")
     return 0
+
+
+def write_section(path: Path, heading: str, text: str) -> None:
+    """Replace the ``heading`` section (up to the next ``## `` heading) of a markdown file, or append it."""
+    old = path.read_text() if path.is_file() else "# Benchmarks\n\n"
+    if heading in old:
+        head, rest = old.split(heading, 1)
+        tail = rest.split("\n## ", 1)
+        new = head + text.rstrip("\n") + "\n\n" + ("## " + tail[1] if len(tail) > 1 else "")
+    else:
+        new = old.rstrip("\n") + "\n\n" + text
+    write_text_atomic(path, new.rstrip("\n") + "\n")
 
 
 def figures(clip: np.ndarray, name: str, seed: int) -> None:
@@ -250,7 +262,7 @@ def mocap_reference(mocap: dict, seconds: float) -> dict:
 
 
 def markdown(summary, speed, ablation, args, reference) -> str:
-    lines = ["# Benchmarks", "", "## 3D fitting", "",
+    lines = ["## 3D fitting", "",
              f"`hdvr fit3d` on CMU salsa mocap (takes {', '.join(args.takes)}, lead 60_XX and follow 61_XX: "
              f"{2 * len(args.takes)} clips of {args.seconds:.0f} s at 30 fps), each seen by a random virtual camera "
              "(1920x1080, focal 1000-2000 px, 3-8 m, azimuth 0-360 deg, elevation -5-30 deg). Medians over clips; "
