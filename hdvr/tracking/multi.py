@@ -45,7 +45,8 @@ class MultiTrackerConfig:
     # background; dancers turn in depth, not in the image plane, so in-plane rotation is not estimated
     ldes: LDESConfig = field(default_factory=lambda: LDESConfig(padding=0.6, colour_weight=0.5,
                                                                 estimate_rotation=False, estimate_scale=False))
-    overlap_threshold: float = 0.05  # intersection / smaller box area above which two dancers overlap
+    overlap_threshold: float = 0.05  # intersection / smaller core area above which two dancers overlap
+    core_aspect: float = 0.4  # overlaps are tested on body cores at most this x the box height wide
     velocity_window: int = 30  # clear frames over which the stored velocity is fitted (least squares)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
     failure_angle_deg: float = 60.0  # turn of the motion direction that counts as a tracking failure
@@ -59,6 +60,8 @@ class MultiTrackerConfig:
     cone_angles: int = 5  # directions sampled across the cone
     min_search_radius: float = 0.25  # x box height: search radius around the prediction when barely moving
     relocate_min_similarity: float = 0.3  # a candidate must correlate at least this well to be taken
+    reid_similarity: float = 0.6  # before the predicted end of an overlap, a clear candidate needs this much
+    reid_margin: float = 0.2  # ... and this much more than with any other occluded dancer's memory
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     max_missed_detections: int = 3  # detector frames in a row without a person on a clear dancer's box = lost
@@ -107,6 +110,15 @@ def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(np.dot(a, b) / (na * nb), -1.0, 1.0))))
 
 
+def _box_at(centre, box) -> tuple[float, float, float, float]:
+    """A box of ``box``'s size centred at ``centre`` (px)."""
+    return (float(centre[0]) - box[2] / 2, float(centre[1]) - box[3] / 2, box[2], box[3])
+
+
+def _centre(box) -> np.ndarray:
+    return np.array([box[0] + box[2] / 2, box[1] + box[3] / 2], float)
+
+
 def _shift(box, d) -> tuple[float, float, float, float]:
     return (box[0] + float(d[0]), box[1] + float(d[1]), box[2], box[3])
 
@@ -125,7 +137,7 @@ class MultiDancerTracker:
     def add_dancer(self, frame: np.ndarray, box) -> int:
         """Start tracking a dancer at ``box`` = (x, y, w, h) px in ``frame`` (the current frame); returns its id."""
         b = tuple(float(v) for v in box)
-        tracker = LDESTracker(frame, b, self.config.ldes)
+        tracker = LDESTracker(frame, self._core(b), self.config.ldes)
         d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index)
         d.stored_histogram = colour_histogram(frame, b)
         d.centers.append(d.center)
@@ -140,8 +152,16 @@ class MultiDancerTracker:
                            np.array([d.confidence for d in self.dancers], float))
 
     # ------------------------------------------------------------------ helpers
+    def _core(self, box):
+        """The body core of a box: centred, at most ``core_aspect`` x its height wide (spread arms left out)."""
+        w = min(box[2], self.config.core_aspect * box[3])
+        return (box[0] + (box[2] - w) / 2, box[1], w, box[3])
+
+    def _bodies_overlap(self, a, b) -> float:
+        return box_overlap(self._core(a), self._core(b))
+
     def _overlapping(self, i: int, boxes) -> list[int]:
-        return [j for j in range(len(boxes)) if j != i and box_overlap(boxes[i], boxes[j])
+        return [j for j in range(len(boxes)) if j != i and self._bodies_overlap(boxes[i], boxes[j])
                 > self.config.overlap_threshold]
 
     def _predicted_box(self, d: DancerTrack, frame_index: int):
@@ -153,7 +173,7 @@ class MultiDancerTracker:
         c = self.config
         for t in range(now + 1, now + c.max_occlusion_frames):
             mine = self._predicted_box(d, t)
-            if all(box_overlap(mine, self._predicted_box(o, t) if o.status == OCCLUDED
+            if all(self._bodies_overlap(mine, self._predicted_box(o, t) if o.status == OCCLUDED
                                else _shift(o.box, o.stored_velocity * (t - now))) <= c.overlap_threshold
                    for o in others):
                 return t + c.overlap_margin_frames
@@ -208,7 +228,7 @@ class MultiDancerTracker:
                 continue
             clear = not self._overlapping(i, prev_boxes)
             state = d.tracker.update(frame, learn=clear)
-            d.box = state.box
+            d.box = _box_at(state.center, d.box)
             d.confidence = float(np.clip(state.confidence / 20.0, 0, 1))
             d.centers = (d.centers + [d.center])[-(c.motion_window + 1):]
         boxes = [d.box for d in self.dancers]
@@ -239,15 +259,21 @@ class MultiDancerTracker:
                 d.occlusion_end = self._predict_overlap_end(d, [self.dancers[j] for j in overlapping], t)
                 d.box = self._predicted_box(d, t)
                 d.confidence = 0.0
-        # 3-4. occluded dancers: predict, then relocate from the predicted end of the overlap on
-        for d in self.dancers:
+        # 3-4. occluded dancers: predict; re-identify any that show clearly again; relocate from the predicted
+        # end of the overlap on
+        occluded = [d for d in self.dancers if d.status == OCCLUDED]
+        own_boxes = []
+        for d in occluded:
+            # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
+            own_boxes.append(_box_at(d.tracker.update(frame, learn=False).center, d.box))
+            d.box = self._predicted_box(d, t)
+        self._reidentify(frame, occluded, own_boxes, detections)
+        for d, own in zip(occluded, own_boxes):
             if d.status != OCCLUDED:
                 continue
-            # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
-            own = d.tracker.update(frame, learn=False).box
-            d.box = self._predicted_box(d, t)
             others = [o.box for o in self.dancers if o is not d]
-            clear_now = any(all(box_overlap(b, o) <= c.overlap_threshold for o in others) for b in (d.box, own))
+            clear_now = any(all(self._bodies_overlap(b, o) <= c.overlap_threshold for o in others)
+                            for b in (d.box, own))
             if t >= d.occlusion_end or clear_now:
                 self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames,
                                extra=[own])
@@ -272,7 +298,7 @@ class MultiDancerTracker:
                 best, best_score = tuple(float(v) for v in det), score
         if best is None:
             return False
-        d.tracker.init(frame, best)  # its filter learned whatever it drifted onto: start afresh
+        d.tracker.init(frame, self._core(best))  # its filter learned whatever it drifted onto: start afresh
         d.box, d.missed, d.confidence = best, 0, float(np.clip(best_score, 0, 1))
         d.centers, d.clear_track = [d.center], []
         d.stored_box, d.stored_frame = best, self.frame_index
@@ -330,12 +356,49 @@ class MultiDancerTracker:
                 best, best_score = box, score
         if best is None or (best_score < c.relocate_min_similarity and not force):
             return  # stay occluded; try again next frame
-        d.tracker.center = (best[0] + best[2] / 2, best[1] + best[3] / 2)
-        d.tracker.scale = best[2] / d.tracker.base_size[0]
-        d.box = best
+        self._take(d, best, best_score)
+
+    def _take(self, d: DancerTrack, box, score: float) -> None:
+        """Dancer ``d`` is seen again at ``box`` (histogram similarity ``score``): tracking resumes there."""
+        d.tracker.center = (box[0] + box[2] / 2, box[1] + box[3] / 2)
+        d.box = tuple(float(v) for v in box)
         d.status = TRACKED
         d.missed = 0
-        d.confidence = float(np.clip(best_score, 0, 1))
+        d.confidence = float(np.clip(score, 0, 1))
         d.centers = [d.center]
         d.clear_track = []
-        d.stored_box, d.stored_frame = best, self.frame_index
+        d.stored_box, d.stored_frame = d.box, self.frame_index
+
+    def _reidentify(self, frame, occluded: list[DancerTrack], own_boxes: list, detections) -> None:
+        """Occluded dancers that show clearly again take their place before the predicted end of the overlap.
+
+        Candidates of each occluded dancer are its own tracker's box, its predicted box and the detections near
+        it, if clear of every tracked dancer. Best matches first, a candidate is taken when its histogram
+        correlates with the dancer's memory at least ``reid_similarity`` and better by ``reid_margin`` than with
+        any other occluded dancer's memory, and when it is clear of the candidates taken before (the dancer in
+        front of a group shows whole and is taken first)."""
+        c = self.config
+        if not occluded:
+            return
+        tracked = [o.box for o in self.dancers if o.status == TRACKED]
+        options = []
+        for d, own in zip(occluded, own_boxes):
+            near = [tuple(float(v) for v in det) for det in detections or []
+                    if np.linalg.norm(_centre(det) - d.center) <= c.min_search_radius * d.box[3] * 2]
+            for box in [own, d.box] + near:
+                if any(self._bodies_overlap(box, o) > c.overlap_threshold for o in tracked):
+                    continue
+                hist = colour_histogram(frame, box)
+                score = histogram_similarity(hist, d.stored_histogram)
+                if score >= c.reid_similarity:
+                    options.append((score, d.dancer_id, box, hist))
+        taken = []
+        for score, i, box, hist in sorted(options, key=lambda o: -o[0]):
+            d = self.dancers[i]
+            if d.status != OCCLUDED or any(self._bodies_overlap(box, b) > c.overlap_threshold for b in taken):
+                continue
+            if any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
+                   for o in occluded if o is not d):
+                continue
+            self._take(d, box, score)
+            taken.append(box)
