@@ -64,6 +64,10 @@ class MultiTrackerConfig:
     reid_margin: float = 0.2  # ... and this much more than with any other occluded dancer's memory
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
+    box_adaptation: float = 0.3  # per confirming detection, weight of the detected box in a clear dancer's box
+    max_box_offset: float = 0.25  # box centre at most this x its size from the tracker's centre
+    max_size_ratio: float = 1.4  # the initial box is at most this much larger or smaller than the detector's
+    retrack_scale: float = 1.25  # box height this factor off the tracker's template: the tracker restarts
     max_missed_detections: int = 3  # detector frames in a row without a person on a clear dancer's box = lost
     lost_search_heights: float = 3.0  # a lost dancer is searched among detections this many box heights away
 
@@ -86,6 +90,8 @@ class DancerTrack:
     missed: int = 0  # detector frames in a row in which no person was detected on this dancer's box
     clear_track: list = field(default_factory=list)  # (frame, centre) of recent frames clear of others
     confidence: float = 1.0
+    offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
+    size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
 
     @property
     def center(self) -> np.ndarray:
@@ -134,12 +140,19 @@ class MultiDancerTracker:
         for b in boxes:
             self.add_dancer(frame, b)
 
-    def add_dancer(self, frame: np.ndarray, box) -> int:
-        """Start tracking a dancer at ``box`` = (x, y, w, h) px in ``frame`` (the current frame); returns its id."""
+    def add_dancer(self, frame: np.ndarray, box, detections=None) -> int:
+        """Start tracking a dancer at ``box`` = (x, y, w, h) px in ``frame`` (the current frame); returns its id.
+        ``detections``: person boxes in this frame; the one on ``box`` (IoU > 0.5) gives the ratio of the
+        dancer's box to the detector's, kept when the box size adapts to later detections."""
         b = tuple(float(v) for v in box)
         tracker = LDESTracker(frame, self._core(b), self.config.ldes)
         d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index)
         d.stored_histogram = colour_histogram(frame, b)
+        ious = [box_iou(b, det) for det in detections or []]
+        if ious and max(ious) > 0.5:
+            detected = np.array(detections[int(np.argmax(ious))][2:], float)
+            d.size_ratio = np.clip(np.array(b[2:]) / detected, 1 / self.config.max_size_ratio,
+                                   self.config.max_size_ratio)
         d.centers.append(d.center)
         self.dancers.append(d)
         return d.dancer_id
@@ -228,7 +241,7 @@ class MultiDancerTracker:
                 continue
             clear = not self._overlapping(i, prev_boxes)
             state = d.tracker.update(frame, learn=clear)
-            d.box = _box_at(state.center, d.box)
+            d.box = _box_at(np.asarray(state.center) + d.offset, d.box)
             d.confidence = float(np.clip(state.confidence / 20.0, 0, 1))
             d.centers = (d.centers + [d.center])[-(c.motion_window + 1):]
         boxes = [d.box for d in self.dancers]
@@ -239,8 +252,10 @@ class MultiDancerTracker:
             overlapping = self._overlapping(i, [dd.box if dd.status == TRACKED else self._predicted_box(dd, t)
                                                 for dd in self.dancers])
             if not overlapping and detections is not None:
-                confirmed = any(box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2 for det in detections)
-                d.missed = 0 if confirmed else d.missed + 1
+                matches = [det for det in detections if box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2]
+                d.missed = 0 if matches else d.missed + 1
+                if len(matches) == 1:
+                    self._adapt_box(d, frame, matches[0])
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
                     continue
@@ -265,7 +280,7 @@ class MultiDancerTracker:
         own_boxes = []
         for d in occluded:
             # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
-            own_boxes.append(_box_at(d.tracker.update(frame, learn=False).center, d.box))
+            own_boxes.append(_box_at(np.asarray(d.tracker.update(frame, learn=False).center) + d.offset, d.box))
             d.box = self._predicted_box(d, t)
         self._reidentify(frame, occluded, own_boxes, detections)
         for d, own in zip(occluded, own_boxes):
@@ -298,11 +313,32 @@ class MultiDancerTracker:
                 best, best_score = tuple(float(v) for v in det), score
         if best is None:
             return False
+        d.offset = np.zeros(2)
         d.tracker.init(frame, self._core(best))  # its filter learned whatever it drifted onto: start afresh
         d.box, d.missed, d.confidence = best, 0, float(np.clip(best_score, 0, 1))
         d.centers, d.clear_track = [d.center], []
         d.stored_box, d.stored_frame = best, self.frame_index
         return True
+
+    def _adapt_box(self, d: DancerTrack, frame, detection) -> None:
+        """Move the box of a clear dancer part of the way (``box_adaptation``) towards the one person detected on
+        it: size (times the ratio of the dancer's box to the first detection on it, so the initial box's
+        convention is kept) and offset of the box centre from the tracker's centre (at most ``max_box_offset`` x
+        the box size). When the box height has drifted by more than ``retrack_scale`` from the tracker's template, the
+        tracker restarts on the new box."""
+        c = self.config
+        a = c.box_adaptation
+        centre = np.asarray(d.tracker.center, float)
+        detected = np.array(detection[2:], float)
+        if d.size_ratio is None:  # keep the convention of the initial box (e.g. a margin around the body)
+            d.size_ratio = np.clip(np.array(d.box[2:]) / detected, 1 / c.max_size_ratio, c.max_size_ratio)
+        size = (1 - a) * np.array(d.box[2:]) + a * d.size_ratio * detected
+        d.offset = np.clip((1 - a) * d.offset + a * (_centre(detection) - centre), -c.max_box_offset * size,
+                           c.max_box_offset * size)
+        d.box = _box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))
+        if abs(np.log(size[1] / d.tracker.base_size[1])) > np.log(c.retrack_scale):
+            d.offset = np.zeros(2)
+            d.tracker.init(frame, self._core(d.box))
 
     @staticmethod
     def _fit_velocity(track) -> np.ndarray:
@@ -361,6 +397,7 @@ class MultiDancerTracker:
     def _take(self, d: DancerTrack, box, score: float) -> None:
         """Dancer ``d`` is seen again at ``box`` (histogram similarity ``score``): tracking resumes there."""
         d.tracker.center = (box[0] + box[2] / 2, box[1] + box[3] / 2)
+        d.offset = np.zeros(2)
         d.box = tuple(float(v) for v in box)
         d.status = TRACKED
         d.missed = 0
