@@ -46,8 +46,10 @@ class MultiTrackerConfig:
     ldes: LDESConfig = field(default_factory=lambda: LDESConfig(padding=0.6, colour_weight=0.5,
                                                                 estimate_rotation=False, estimate_scale=False))
     overlap_threshold: float = 0.05  # intersection / smaller core area above which two dancers overlap
-    core_aspect: float = 0.4  # overlaps are tested on body cores at most this x the box height wide
+    core_aspect: float = 0.3  # overlaps are tested on body cores at most this x the box height wide
     velocity_window: int = 30  # clear frames over which the stored velocity is fitted (least squares)
+    max_speed: float = 0.06  # x box height per frame: the stored velocity is capped there (a dancer crossing the
+    # frame runs at about 0.03)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
     failure_angle_deg: float = 60.0  # turn of the motion direction that counts as a tracking failure
     min_speed: float = 0.7  # px/frame: below this the direction is not trusted (histogram test only)
@@ -64,6 +66,8 @@ class MultiTrackerConfig:
     reid_margin: float = 0.2  # ... and this much more than with any other occluded dancer's memory
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
+    adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
+    max_height_change: float = 1.6  # a detection this much taller or shorter than a dancer's box is not it
     box_adaptation: float = 0.3  # per confirming detection, weight of the detected box in a clear dancer's box
     max_box_offset: float = 0.25  # box centre at most this x its size from the tracker's centre
     max_size_ratio: float = 1.4  # the initial box is at most this much larger or smaller than the detector's
@@ -92,6 +96,12 @@ class DancerTrack:
     confidence: float = 1.0
     offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
     size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
+
+    @property
+    def body_center(self) -> np.ndarray:
+        """Centre (px) of the tracker's body core: motion is measured on it (the box centre also moves when the
+        box adapts to a detection)."""
+        return np.asarray(self.tracker.center, float)
 
     @property
     def center(self) -> np.ndarray:
@@ -153,7 +163,7 @@ class MultiDancerTracker:
             detected = np.array(detections[int(np.argmax(ious))][2:], float)
             d.size_ratio = np.clip(np.array(b[2:]) / detected, 1 / self.config.max_size_ratio,
                                    self.config.max_size_ratio)
-        d.centers.append(d.center)
+        d.centers.append(d.body_center)
         self.dancers.append(d)
         return d.dancer_id
 
@@ -243,7 +253,7 @@ class MultiDancerTracker:
             state = d.tracker.update(frame, learn=clear)
             d.box = _box_at(np.asarray(state.center) + d.offset, d.box)
             d.confidence = float(np.clip(state.confidence / 20.0, 0, 1))
-            d.centers = (d.centers + [d.center])[-(c.motion_window + 1):]
+            d.centers = (d.centers + [d.body_center])[-(c.motion_window + 1):]
         boxes = [d.box for d in self.dancers]
         # 2. memory update or failure test
         for i, d in enumerate(self.dancers):
@@ -254,14 +264,15 @@ class MultiDancerTracker:
             if not overlapping and detections is not None:
                 matches = [det for det in detections if box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2]
                 d.missed = 0 if matches else d.missed + 1
-                if len(matches) == 1:
+                if len(matches) == 1 and box_iou(d.box, matches[0]) > c.adapt_min_iou \
+                        and self._single_person(d, matches[0]):
                     self._adapt_box(d, frame, matches[0])
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
                     continue
             if not overlapping:
-                d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.center)]
-                d.stored_velocity = self._fit_velocity(d.clear_track)
+                d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.body_center)]
+                d.stored_velocity = self._fit_velocity(d.clear_track, c.max_speed * d.box[3])
                 hist = colour_histogram(frame, d.box) if d.missed == 0 else None
                 if hist is not None:
                     d.stored_histogram = hist if d.stored_histogram is None else \
@@ -303,7 +314,7 @@ class MultiDancerTracker:
         others = [o.box for o in self.dancers if o is not d]
         best, best_score = None, max(current + 0.1, c.relocate_min_similarity)
         for det in detections:
-            if any(box_iou(det, o) > 0.3 for o in others):
+            if any(box_iou(det, o) > 0.3 for o in others) or not self._single_person(d, det):
                 continue
             off = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2]) - d.center
             if np.linalg.norm(off) > c.lost_search_heights * d.box[3]:
@@ -316,9 +327,18 @@ class MultiDancerTracker:
         d.offset = np.zeros(2)
         d.tracker.init(frame, self._core(best))  # its filter learned whatever it drifted onto: start afresh
         d.box, d.missed, d.confidence = best, 0, float(np.clip(best_score, 0, 1))
-        d.centers, d.clear_track = [d.center], []
+        d.centers, d.clear_track = [d.body_center], []
         d.stored_box, d.stored_frame = best, self.frame_index
         return True
+
+    def _single_person(self, d: DancerTrack, detection) -> bool:
+        """Whether ``detection`` can be dancer ``d`` alone: its body core overlaps no other dancer's and its height
+        is within ``max_height_change`` of ``d``'s box height (a box around two people is neither)."""
+        c = self.config
+        ratio = detection[3] / d.box[3]
+        return (1 / c.max_height_change <= ratio <= c.max_height_change
+                and all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold
+                        for o in self.dancers if o is not d))
 
     def _adapt_box(self, d: DancerTrack, frame, detection) -> None:
         """Move the box of a clear dancer part of the way (``box_adaptation``) towards the one person detected on
@@ -341,14 +361,17 @@ class MultiDancerTracker:
             d.tracker.init(frame, self._core(d.box))
 
     @staticmethod
-    def _fit_velocity(track) -> np.ndarray:
-        """Least-squares velocity (px/frame) through (frame, centre) samples; zero with fewer than 2."""
+    def _fit_velocity(track, max_speed: float = np.inf) -> np.ndarray:
+        """Least-squares velocity (px/frame) through (frame, centre) samples, at most ``max_speed`` px/frame;
+        zero with fewer than 2."""
         if len(track) < 2:
             return np.zeros(2)
         f = np.array([ft for ft, _ in track], float)
         p = np.array([pt for _, pt in track], float)
         f -= f.mean()
-        return (f[:, None] * (p - p.mean(axis=0))).sum(axis=0) / (f ** 2).sum()
+        v = (f[:, None] * (p - p.mean(axis=0))).sum(axis=0) / (f ** 2).sum()
+        speed = float(np.linalg.norm(v))
+        return v * (max_speed / speed) if speed > max_speed else v
 
     def _failed(self, d: DancerTrack, frame, overlapping: list[int], boxes) -> bool:
         c = self.config
@@ -402,7 +425,7 @@ class MultiDancerTracker:
         d.status = TRACKED
         d.missed = 0
         d.confidence = float(np.clip(score, 0, 1))
-        d.centers = [d.center]
+        d.centers = [d.body_center]
         d.clear_track = []
         d.stored_box, d.stored_frame = d.box, self.frame_index
 
@@ -422,7 +445,7 @@ class MultiDancerTracker:
         for d, own in zip(occluded, own_boxes):
             near = [tuple(float(v) for v in det) for det in detections or []
                     if np.linalg.norm(_centre(det) - d.center) <= c.min_search_radius * d.box[3] * 2]
-            for box in [own, d.box] + near:
+            for box in [own] + near:
                 if any(self._bodies_overlap(box, o) > c.overlap_threshold for o in tracked):
                     continue
                 hist = colour_histogram(frame, box)
