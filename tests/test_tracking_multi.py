@@ -105,3 +105,32 @@ def test_box_size_follows_detections(tmp_path):
             ious += [iou_matrix(truth.boxes[t, i][None], result.boxes[i][None])[0, 0] for i in range(2)]
         mean_iou[adaptation] = float(np.mean(ious))
     assert mean_iou[0.3] > mean_iou[0.0] + 0.02, mean_iou
+
+
+def test_long_lost_dancer_recovered_without_swap(tmp_path):
+    """A box left on a static background whose memory also matches that background (as for a dancer filmed
+    against it before a jump) keeps matching its memory; after ``long_lost_detections`` detector frames without a
+    person on it, it moves to the unclaimed person who matches its memory better than the other dancer's."""
+    from hdvr.tracking.appearance import colour_histogram
+
+    truth = render_clip(tmp_path / "clip.mp4", frames=60, specs=default_crossing_specs(num_figures=2, seed=2))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    tracker = MultiDancerTracker(frames[0], truth.boxes[0])
+    w, h = truth.boxes[0, 0, 2:]
+    parked = (320 - w / 2, truth.boxes[0, 0, 1], w, h)  # background between the two, who meet there only later
+    moved_at = None
+    for t in range(1, 60):
+        if t == 3:
+            d = tracker.dancers[0]
+            d.box, d.tracker.center = parked, (parked[0] + parked[2] / 2, parked[1] + parked[3] / 2)
+            d.stored_histogram = 0.5 * d.stored_histogram + 0.5 * colour_histogram(frames[t], parked)
+        result = tracker.step(frames[t], [tuple(b) for b in truth.boxes[t]] if t % 3 == 0 else None)
+        centre = result.boxes[0, :2] + result.boxes[0, 2:] / 2
+        true_centre = truth.boxes[t, 0, :2] + truth.boxes[t, 0, 2:] / 2
+        if t > 3 and moved_at is None and np.linalg.norm(centre - true_centre) < 30:
+            moved_at = t
+    assert moved_at is not None and moved_at >= 3 * tracker.config.long_lost_detections, moved_at
+    final = tracker.result().boxes
+    for i in range(2):  # each box on its own dancer at the end
+        true_centre = truth.boxes[-1, i, :2] + truth.boxes[-1, i, 2:] / 2
+        assert np.linalg.norm(final[i, :2] + final[i, 2:] / 2 - true_centre) < 30

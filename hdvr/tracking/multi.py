@@ -73,6 +73,9 @@ class MultiTrackerConfig:
     max_size_ratio: float = 1.4  # the initial box is at most this much larger or smaller than the detector's
     retrack_scale: float = 1.25  # box height this factor off the tracker's template: the tracker restarts
     max_missed_detections: int = 3  # detector frames in a row without a person on a clear dancer's box = lost
+    long_lost_detections: int = 8  # detector frames in a row without a person on a clear dancer's box = long lost
+    recovery_frames: int = 30  # frames after such a recovery in which the box restarts on any detection on it
+    recovery_height_change: float = 2.5  # ... whose height is within this factor of the box's
     lost_search_heights: float = 3.0  # a lost dancer is searched among detections this many box heights away
 
 
@@ -95,6 +98,7 @@ class DancerTrack:
     clear_track: list = field(default_factory=list)  # (frame, centre) of recent frames clear of others
     confidence: float = 1.0
     offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
+    recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
     size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
 
     @property
@@ -264,8 +268,12 @@ class MultiDancerTracker:
             if not overlapping and detections is not None:
                 matches = [det for det in detections if box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2]
                 d.missed = 0 if matches else d.missed + 1
-                if len(matches) == 1 and box_iou(d.box, matches[0]) > c.adapt_min_iou \
-                        and self._single_person(d, matches[0]):
+                if len(matches) == 1 and t <= d.recovering_until and \
+                        self._single_person(d, matches[0], c.recovery_height_change):
+                    # just recovered, moving fast and changing shape (e.g. a flip): follow the detector
+                    self._restart(d, frame, matches[0], d.confidence)
+                elif len(matches) == 1 and box_iou(d.box, matches[0]) > c.adapt_min_iou and \
+                        self._single_person(d, matches[0]):
                     self._adapt_box(d, frame, matches[0])
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
@@ -308,35 +316,53 @@ class MultiDancerTracker:
     def _jump_to_detection(self, d: DancerTrack, frame, detections) -> bool:
         """A dancer whose box has held no detected person for a while moves to a detected person nearby that
         nobody else tracks, if that person's histogram matches the stored one clearly better than the box does
-        (the tracker drifted off, e.g. in a jump). Returns whether it moved."""
+        (the tracker drifted off, e.g. in a jump). After ``long_lost_detections`` detector frames without a person
+        on its box, the box's own match no longer counts (a box left on a static background keeps matching a
+        memory learned there): the person is taken if it matches this dancer's memory at least
+        ``relocate_min_similarity`` and better by ``reid_margin`` than every other dancer's. Returns whether it
+        moved."""
         c = self.config
+        long_lost = d.missed >= c.long_lost_detections
         current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
-        others = [o.box for o in self.dancers if o is not d]
-        best, best_score = None, max(current + 0.1, c.relocate_min_similarity)
+        others = [o for o in self.dancers if o is not d]
+        best, best_score = None, c.relocate_min_similarity if long_lost else max(current + 0.1,
+                                                                                  c.relocate_min_similarity)
         for det in detections:
-            if any(box_iou(det, o) > 0.3 for o in others) or not self._single_person(d, det):
+            if any(box_iou(det, o.box) > 0.3 for o in others) or not self._single_person(d, det):
                 continue
             off = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2]) - d.center
             if np.linalg.norm(off) > c.lost_search_heights * d.box[3]:
                 continue
-            score = histogram_similarity(colour_histogram(frame, det), d.stored_histogram)
+            hist = colour_histogram(frame, det)
+            score = histogram_similarity(hist, d.stored_histogram)
+            if long_lost and any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
+                                 for o in others):
+                continue
             if score > best_score:
                 best, best_score = tuple(float(v) for v in det), score
         if best is None:
             return False
-        d.offset = np.zeros(2)
-        d.tracker.init(frame, self._core(best))  # its filter learned whatever it drifted onto: start afresh
-        d.box, d.missed, d.confidence = best, 0, float(np.clip(best_score, 0, 1))
-        d.centers, d.clear_track = [d.body_center], []
-        d.stored_box, d.stored_frame = best, self.frame_index
+        self._restart(d, frame, best, best_score)
+        if long_lost:
+            d.recovering_until = self.frame_index + c.recovery_frames
         return True
 
-    def _single_person(self, d: DancerTrack, detection) -> bool:
+    def _restart(self, d: DancerTrack, frame, box, score: float) -> None:
+        """Restart dancer ``d``'s tracker on ``box`` (its filter learned whatever it drifted onto)."""
+        d.offset = np.zeros(2)
+        d.tracker.init(frame, self._core(box))
+        d.box, d.missed, d.confidence = tuple(float(v) for v in box), 0, float(np.clip(score, 0, 1))
+        d.centers, d.clear_track = [d.body_center], []
+        d.stored_box, d.stored_frame = d.box, self.frame_index
+
+    def _single_person(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
         """Whether ``detection`` can be dancer ``d`` alone: its body core overlaps no other dancer's and its height
-        is within ``max_height_change`` of ``d``'s box height (a box around two people is neither)."""
+        is within ``max_height_change`` (default: the config's) of ``d``'s box height (a box around two people is
+        neither)."""
         c = self.config
+        change = max_height_change or c.max_height_change
         ratio = detection[3] / d.box[3]
-        return (1 / c.max_height_change <= ratio <= c.max_height_change
+        return (1 / change <= ratio <= change
                 and all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold
                         for o in self.dancers if o is not d))
 
