@@ -134,3 +134,13 @@ def test_long_lost_dancer_recovered_without_swap(tmp_path):
     for i in range(2):  # each box on its own dancer at the end
         true_centre = truth.boxes[-1, i, :2] + truth.boxes[-1, i, 2:] / 2
         assert np.linalg.norm(final[i, :2] + final[i, 2:] / 2 - true_centre) < 30
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("num_dancers,seed", [(n, s) for n in (3, 4) for s in range(6)])
+def test_three_and_four_dancer_seeds(tmp_path, num_dancers, seed):
+    truth = render_clip(tmp_path / "clip.mp4", frames=150,
+                        specs=default_crossing_specs(num_figures=num_dancers, seed=seed), seed=seed)
+    boxes, _ = _run(tmp_path / "clip.mp4", truth)
+    scores = evaluate_tracking(truth.boxes, boxes)
+    assert scores.id_switches == 0 and scores.idf1 >= 0.9, scores
