@@ -254,14 +254,14 @@ def detector_section(model, every: int = 3, sizes=(480, 320, 256)) -> list[str]:
     return lines
 
 
-def _score_row(label: str, scores: list) -> list[str]:
-    """Markdown rows: one per seed and the median, IDF1 / MOTA / HOTA / identity switches."""
-    rows = [f"| {label} | {seed} | {s.idf1:.3f} | {s.mota:.3f} | {s.hota:.3f} | {s.id_switches} |"
-            for seed, s in enumerate(scores)]
+def _score_row(dancers: int, mode: str, scores: list) -> str:
+    """One markdown row: IDF1, MOTA, HOTA and identity switches per seed, and the medians."""
+    def per_seed(key, fmt):
+        return " ".join(format(getattr(s, key), fmt) for s in scores)
+
     med = [statistics.median(getattr(s, k) for s in scores) for k in ("idf1", "mota", "hota")]
-    rows.append(f"| {label} | **median** | **{med[0]:.3f}** | **{med[1]:.3f}** | **{med[2]:.3f}** | "
-                f"**{sum(s.id_switches for s in scores)} in all** |")
-    return rows
+    return (f"| {dancers} | {mode} | {per_seed('idf1', '.2f')} | {per_seed('id_switches', 'd')} | "
+            f"{per_seed('mota', '.2f')} | {per_seed('hota', '.2f')} | {med[0]:.3f} / {med[1]:.3f} / {med[2]:.3f} |")
 
 
 def identity_section(args, model, tmp, frames: int = 150) -> list[str]:
@@ -271,7 +271,8 @@ def identity_section(args, model, tmp, frames: int = 150) -> list[str]:
              f"{args.seeds - 1}", "",
              "Tracker alone (Algorithm 1*, no detector) and `hdvr track`'s default (YOLO11n-pose at 480 px on every "
              "3rd frame; it finds the stick figures on few frames), started from the true first-frame boxes.", "",
-             "| dancers, mode | seed | IDF1 | MOTA | HOTA | ID switches |", "|---|---|---|---|---|---|"]
+             "| dancers | mode | IDF1 per seed | ID switches per seed | MOTA per seed | HOTA per seed | "
+             "median IDF1 / MOTA / HOTA |", "|---|---|---|---|---|---|---|"]
     for n in (2, 3, 4):
         clips = []
         for seed in range(args.seeds):
@@ -283,7 +284,7 @@ def identity_section(args, model, tmp, frames: int = 150) -> list[str]:
                                                                  boxes=truth.boxes[0], detect_every=3,
                                                                  overlay=False, write=False).boxes)
                       for path, truth in clips]
-            lines += _score_row(f"{n}, {mode}", scores)
+            lines.append(_score_row(n, mode, scores))
             print(lines[-1], file=sys.stderr)
     lines.append("")
     return lines
