@@ -1,6 +1,8 @@
 """Algorithm 1* of the paper: N dancers tracked through mutual occlusion.
 
-Each dancer has its own LDES-style tracker (:mod:`hdvr.tracking.ldes`). Per frame:
+Each dancer has its own LDES-style tracker (:mod:`hdvr.tracking.ldes`), run on the dancer's *body core* (the
+central strip of its box, at most ``core_aspect`` x its height wide); overlaps between dancers are tested on the
+cores too, so spread arms do not count. Per frame:
 
 1. every dancer that is being tracked is moved by its tracker; while it overlaps no other dancer its colour
    histogram and velocity are stored (the appearance and motion memory), and its tracker learns;
@@ -8,15 +10,20 @@ Each dancer has its own LDES-style tracker (:mod:`hdvr.tracking.ldes`). Per fram
    motion (direction turned by more than ``failure_angle_deg``, a stall or a jump) or as a histogram that no
    longer matches the stored one;
 3. on a failure the dancer is *occluded*: its box moves on with the stored velocity, and the frame where the
-   overlap will end is predicted from the stored velocities of the two dancers;
-4. from that frame on, the dancer is *relocated*: candidate patches (the stored box size) are laid out in a cone
-   along the stored motion direction, plus any person detections inside the cone; the candidate whose histogram
-   correlates best with the stored one takes the dancer, and tracking resumes there.
+   overlap will end is predicted from the stored velocities of the dancers involved;
+4. occluded dancers that show clearly again (own tracker or a detection clear of every tracked dancer, matching
+   the memory well and better than any other occluded dancer's) are re-identified at once, best matches first;
+5. from the predicted end of the overlap on, the dancer is *relocated*: candidate patches (the stored box size)
+   are laid out in a cone along the stored motion direction, plus any person detections inside the cone; the
+   candidate whose histogram correlates best with the stored one takes the dancer, and tracking resumes there.
 
-When person detections are given (``step(frame, detections)``), a dancer clear of the others whose box has held
-no detected person for ``max_missed_detections`` detector frames in a row may have lost its dancer (e.g. in a
-jump): if a detected person nearby, tracked by no one, matches its stored histogram clearly better than its box
-does, the dancer moves there and its tracker restarts. Its stored histogram is only updated on frames where no
+When person detections are given (``step(frame, detections)``), only those that can be one dancer alone count
+(body core clear of the other dancers, plausible height). The box of a clear dancer adapts its size and centre to
+the one detection on it. A clear dancer whose box has held no detected person for ``max_missed_detections``
+detector frames in a row may have lost its dancer (e.g. in a jump): if a detected person nearby, tracked by no
+one, matches its stored histogram clearly better than its box does, the dancer moves there and its tracker
+restarts; after ``long_lost_detections`` such frames the box's own match no longer counts, and the recovered box
+follows the detections for ``recovery_frames``. Its stored histogram is only updated on frames where no
 detection is missing on its box.
 
 Dancers may start later than the first frame (:meth:`MultiDancerTracker.add_dancer`).
@@ -30,7 +37,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hdvr.errors import HDVRError
 from hdvr.tracking.appearance import box_iou, box_overlap, colour_histogram, histogram_similarity
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
 
