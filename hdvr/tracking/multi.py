@@ -325,8 +325,8 @@ class MultiDancerTracker:
         (the tracker drifted off, e.g. in a jump). After ``long_lost_detections`` detector frames without a person
         on its box, the box's own match no longer counts (a box left on a static background keeps matching a
         memory learned there): the person is taken if it matches this dancer's memory at least
-        ``relocate_min_similarity`` and better by ``reid_margin`` than every other dancer's. Returns whether it
-        moved."""
+        ``relocate_min_similarity`` and better by ``reid_margin`` than the memory of every other dancer not held
+        by a detection of its own (one that is cannot be this person). Returns whether it moved."""
         c = self.config
         long_lost = d.missed >= c.long_lost_detections
         current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
@@ -342,7 +342,7 @@ class MultiDancerTracker:
             hist = colour_histogram(frame, det)
             score = histogram_similarity(hist, d.stored_histogram)
             if long_lost and any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
-                                 for o in others):
+                                 for o in others if not (o.status == TRACKED and o.missed == 0)):
                 continue
             if score > best_score:
                 best, best_score = tuple(float(v) for v in det), score
