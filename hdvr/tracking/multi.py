@@ -1,6 +1,8 @@
 """Algorithm 1* of the paper: N dancers tracked through mutual occlusion.
 
-Each dancer has its own LDES-style tracker (:mod:`hdvr.tracking.ldes`). Per frame:
+Each dancer has its own LDES-style tracker (:mod:`hdvr.tracking.ldes`), run on the dancer's *body core* (the
+central strip of its box, at most ``core_aspect`` x its height wide); overlaps between dancers are tested on the
+cores too, so spread arms do not count. Per frame:
 
 1. every dancer that is being tracked is moved by its tracker; while it overlaps no other dancer its colour
    histogram and velocity are stored (the appearance and motion memory), and its tracker learns;
@@ -8,15 +10,20 @@ Each dancer has its own LDES-style tracker (:mod:`hdvr.tracking.ldes`). Per fram
    motion (direction turned by more than ``failure_angle_deg``, a stall or a jump) or as a histogram that no
    longer matches the stored one;
 3. on a failure the dancer is *occluded*: its box moves on with the stored velocity, and the frame where the
-   overlap will end is predicted from the stored velocities of the two dancers;
-4. from that frame on, the dancer is *relocated*: candidate patches (the stored box size) are laid out in a cone
-   along the stored motion direction, plus any person detections inside the cone; the candidate whose histogram
-   correlates best with the stored one takes the dancer, and tracking resumes there.
+   overlap will end is predicted from the stored velocities of the dancers involved;
+4. occluded dancers that show clearly again (own tracker or a detection clear of every tracked dancer, matching
+   the memory well and better than any other occluded dancer's) are re-identified at once, best matches first;
+5. from the predicted end of the overlap on, the dancer is *relocated*: candidate patches (the stored box size)
+   are laid out in a cone along the stored motion direction, plus any person detections inside the cone; the
+   candidate whose histogram correlates best with the stored one takes the dancer, and tracking resumes there.
 
-When person detections are given (``step(frame, detections)``), a dancer clear of the others whose box has held
-no detected person for ``max_missed_detections`` detector frames in a row may have lost its dancer (e.g. in a
-jump): if a detected person nearby, tracked by no one, matches its stored histogram clearly better than its box
-does, the dancer moves there and its tracker restarts. Its stored histogram is only updated on frames where no
+When person detections are given (``step(frame, detections)``), only those that can be one dancer alone count
+(body core clear of the other dancers, plausible height). The box of a clear dancer adapts its size and centre to
+the one detection on it. A clear dancer whose box has held no detected person for ``max_missed_detections``
+detector frames in a row may have lost its dancer (e.g. in a jump): if a detected person nearby, tracked by no
+one, matches its stored histogram clearly better than its box does, the dancer moves there and its tracker
+restarts; after ``long_lost_detections`` such frames the box's own match no longer counts, and the recovered box
+follows the detections for ``recovery_frames``. Its stored histogram is only updated on frames where no
 detection is missing on its box.
 
 Dancers may start later than the first frame (:meth:`MultiDancerTracker.add_dancer`).
@@ -30,7 +37,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hdvr.errors import HDVRError
 from hdvr.tracking.appearance import box_iou, box_overlap, colour_histogram, histogram_similarity
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
 
@@ -45,8 +51,11 @@ class MultiTrackerConfig:
     # background; dancers turn in depth, not in the image plane, so in-plane rotation is not estimated
     ldes: LDESConfig = field(default_factory=lambda: LDESConfig(padding=0.6, colour_weight=0.5,
                                                                 estimate_rotation=False, estimate_scale=False))
-    overlap_threshold: float = 0.05  # intersection / smaller box area above which two dancers overlap
+    overlap_threshold: float = 0.05  # intersection / smaller core area above which two dancers overlap
+    core_aspect: float = 0.3  # overlaps are tested on body cores at most this x the box height wide
     velocity_window: int = 30  # clear frames over which the stored velocity is fitted (least squares)
+    max_speed: float = 0.06  # x box height per frame: the stored velocity is capped there (a dancer crossing the
+    # frame runs at about 0.03)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
     failure_angle_deg: float = 60.0  # turn of the motion direction that counts as a tracking failure
     min_speed: float = 0.7  # px/frame: below this the direction is not trusted (histogram test only)
@@ -59,9 +68,20 @@ class MultiTrackerConfig:
     cone_angles: int = 5  # directions sampled across the cone
     min_search_radius: float = 0.25  # x box height: search radius around the prediction when barely moving
     relocate_min_similarity: float = 0.3  # a candidate must correlate at least this well to be taken
+    reid_similarity: float = 0.6  # before the predicted end of an overlap, a clear candidate needs this much
+    reid_margin: float = 0.2  # ... and this much more than with any other occluded dancer's memory
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
+    adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
+    max_height_change: float = 1.6  # a detection this much taller or shorter than a dancer's box is not it
+    box_adaptation: float = 0.3  # per confirming detection, weight of the detected box in a clear dancer's box
+    max_box_offset: float = 0.25  # box centre at most this x its size from the tracker's centre
+    max_size_ratio: float = 1.4  # the initial box is at most this much larger or smaller than the detector's
+    retrack_scale: float = 1.25  # box height this factor off the tracker's template: the tracker restarts
     max_missed_detections: int = 3  # detector frames in a row without a person on a clear dancer's box = lost
+    long_lost_detections: int = 8  # detector frames in a row without a person on a clear dancer's box = long lost
+    recovery_frames: int = 30  # frames after such a recovery in which the box restarts on any detection on it
+    recovery_height_change: float = 2.5  # ... whose height is within this factor of the box's
     lost_search_heights: float = 3.0  # a lost dancer is searched among detections this many box heights away
 
 
@@ -83,6 +103,15 @@ class DancerTrack:
     missed: int = 0  # detector frames in a row in which no person was detected on this dancer's box
     clear_track: list = field(default_factory=list)  # (frame, centre) of recent frames clear of others
     confidence: float = 1.0
+    offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
+    recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
+    size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
+
+    @property
+    def body_center(self) -> np.ndarray:
+        """Centre (px) of the tracker's body core: motion is measured on it (the box centre also moves when the
+        box adapts to a detection)."""
+        return np.asarray(self.tracker.center, float)
 
     @property
     def center(self) -> np.ndarray:
@@ -107,6 +136,15 @@ def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(np.dot(a, b) / (na * nb), -1.0, 1.0))))
 
 
+def _box_at(centre, box) -> tuple[float, float, float, float]:
+    """A box of ``box``'s size centred at ``centre`` (px)."""
+    return (float(centre[0]) - box[2] / 2, float(centre[1]) - box[3] / 2, box[2], box[3])
+
+
+def _centre(box) -> np.ndarray:
+    return np.array([box[0] + box[2] / 2, box[1] + box[3] / 2], float)
+
+
 def _shift(box, d) -> tuple[float, float, float, float]:
     return (box[0] + float(d[0]), box[1] + float(d[1]), box[2], box[3])
 
@@ -122,13 +160,20 @@ class MultiDancerTracker:
         for b in boxes:
             self.add_dancer(frame, b)
 
-    def add_dancer(self, frame: np.ndarray, box) -> int:
-        """Start tracking a dancer at ``box`` = (x, y, w, h) px in ``frame`` (the current frame); returns its id."""
+    def add_dancer(self, frame: np.ndarray, box, detections=None) -> int:
+        """Start tracking a dancer at ``box`` = (x, y, w, h) px in ``frame`` (the current frame); returns its id.
+        ``detections``: person boxes in this frame; the one on ``box`` (IoU > 0.5) gives the ratio of the
+        dancer's box to the detector's, kept when the box size adapts to later detections."""
         b = tuple(float(v) for v in box)
-        tracker = LDESTracker(frame, b, self.config.ldes)
+        tracker = LDESTracker(frame, self._core(b), self.config.ldes)
         d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index)
         d.stored_histogram = colour_histogram(frame, b)
-        d.centers.append(d.center)
+        ious = [box_iou(b, det) for det in detections or []]
+        if ious and max(ious) > 0.5:
+            detected = np.array(detections[int(np.argmax(ious))][2:], float)
+            d.size_ratio = np.clip(np.array(b[2:]) / detected, 1 / self.config.max_size_ratio,
+                                   self.config.max_size_ratio)
+        d.centers.append(d.body_center)
         self.dancers.append(d)
         return d.dancer_id
 
@@ -140,8 +185,16 @@ class MultiDancerTracker:
                            np.array([d.confidence for d in self.dancers], float))
 
     # ------------------------------------------------------------------ helpers
+    def _core(self, box):
+        """The body core of a box: centred, at most ``core_aspect`` x its height wide (spread arms left out)."""
+        w = min(box[2], self.config.core_aspect * box[3])
+        return (box[0] + (box[2] - w) / 2, box[1], w, box[3])
+
+    def _bodies_overlap(self, a, b) -> float:
+        return box_overlap(self._core(a), self._core(b))
+
     def _overlapping(self, i: int, boxes) -> list[int]:
-        return [j for j in range(len(boxes)) if j != i and box_overlap(boxes[i], boxes[j])
+        return [j for j in range(len(boxes)) if j != i and self._bodies_overlap(boxes[i], boxes[j])
                 > self.config.overlap_threshold]
 
     def _predicted_box(self, d: DancerTrack, frame_index: int):
@@ -153,7 +206,7 @@ class MultiDancerTracker:
         c = self.config
         for t in range(now + 1, now + c.max_occlusion_frames):
             mine = self._predicted_box(d, t)
-            if all(box_overlap(mine, self._predicted_box(o, t) if o.status == OCCLUDED
+            if all(self._bodies_overlap(mine, self._predicted_box(o, t) if o.status == OCCLUDED
                                else _shift(o.box, o.stored_velocity * (t - now))) <= c.overlap_threshold
                    for o in others):
                 return t + c.overlap_margin_frames
@@ -208,9 +261,9 @@ class MultiDancerTracker:
                 continue
             clear = not self._overlapping(i, prev_boxes)
             state = d.tracker.update(frame, learn=clear)
-            d.box = state.box
+            d.box = _box_at(np.asarray(state.center) + d.offset, d.box)
             d.confidence = float(np.clip(state.confidence / 20.0, 0, 1))
-            d.centers = (d.centers + [d.center])[-(c.motion_window + 1):]
+            d.centers = (d.centers + [d.body_center])[-(c.motion_window + 1):]
         boxes = [d.box for d in self.dancers]
         # 2. memory update or failure test
         for i, d in enumerate(self.dancers):
@@ -219,14 +272,21 @@ class MultiDancerTracker:
             overlapping = self._overlapping(i, [dd.box if dd.status == TRACKED else self._predicted_box(dd, t)
                                                 for dd in self.dancers])
             if not overlapping and detections is not None:
-                confirmed = any(box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2 for det in detections)
-                d.missed = 0 if confirmed else d.missed + 1
+                matches = [det for det in detections if box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2]
+                d.missed = 0 if matches else d.missed + 1
+                if len(matches) == 1 and t <= d.recovering_until and \
+                        self._single_person(d, matches[0], c.recovery_height_change):
+                    # just recovered, moving fast and changing shape (e.g. a flip): follow the detector
+                    self._restart(d, frame, matches[0], d.confidence)
+                elif len(matches) == 1 and box_iou(d.box, matches[0]) > c.adapt_min_iou and \
+                        self._single_person(d, matches[0]):
+                    self._adapt_box(d, frame, matches[0])
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
                     continue
             if not overlapping:
-                d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.center)]
-                d.stored_velocity = self._fit_velocity(d.clear_track)
+                d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.body_center)]
+                d.stored_velocity = self._fit_velocity(d.clear_track, c.max_speed * d.box[3])
                 hist = colour_histogram(frame, d.box) if d.missed == 0 else None
                 if hist is not None:
                     d.stored_histogram = hist if d.stored_histogram is None else \
@@ -239,15 +299,21 @@ class MultiDancerTracker:
                 d.occlusion_end = self._predict_overlap_end(d, [self.dancers[j] for j in overlapping], t)
                 d.box = self._predicted_box(d, t)
                 d.confidence = 0.0
-        # 3-4. occluded dancers: predict, then relocate from the predicted end of the overlap on
-        for d in self.dancers:
+        # 3-4. occluded dancers: predict; re-identify any that show clearly again; relocate from the predicted
+        # end of the overlap on
+        occluded = [d for d in self.dancers if d.status == OCCLUDED]
+        own_boxes = []
+        for d in occluded:
+            # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
+            own_boxes.append(_box_at(np.asarray(d.tracker.update(frame, learn=False).center) + d.offset, d.box))
+            d.box = self._predicted_box(d, t)
+        self._reidentify(frame, occluded, own_boxes, detections)
+        for d, own in zip(occluded, own_boxes):
             if d.status != OCCLUDED:
                 continue
-            # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
-            own = d.tracker.update(frame, learn=False).box
-            d.box = self._predicted_box(d, t)
             others = [o.box for o in self.dancers if o is not d]
-            clear_now = any(all(box_overlap(b, o) <= c.overlap_threshold for o in others) for b in (d.box, own))
+            clear_now = any(all(self._bodies_overlap(b, o) <= c.overlap_threshold for o in others)
+                            for b in (d.box, own))
             if t >= d.occlusion_end or clear_now:
                 self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames,
                                extra=[own])
@@ -256,37 +322,88 @@ class MultiDancerTracker:
     def _jump_to_detection(self, d: DancerTrack, frame, detections) -> bool:
         """A dancer whose box has held no detected person for a while moves to a detected person nearby that
         nobody else tracks, if that person's histogram matches the stored one clearly better than the box does
-        (the tracker drifted off, e.g. in a jump). Returns whether it moved."""
+        (the tracker drifted off, e.g. in a jump). After ``long_lost_detections`` detector frames without a person
+        on its box, the box's own match no longer counts (a box left on a static background keeps matching a
+        memory learned there): the person is taken if it matches this dancer's memory at least
+        ``relocate_min_similarity`` and better by ``reid_margin`` than the memory of every other dancer not held
+        by a detection of its own (one that is cannot be this person). Returns whether it moved."""
         c = self.config
+        long_lost = d.missed >= c.long_lost_detections
         current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
-        others = [o.box for o in self.dancers if o is not d]
-        best, best_score = None, max(current + 0.1, c.relocate_min_similarity)
+        others = [o for o in self.dancers if o is not d]
+        best, best_score = None, c.relocate_min_similarity if long_lost else max(current + 0.1,
+                                                                                  c.relocate_min_similarity)
         for det in detections:
-            if any(box_iou(det, o) > 0.3 for o in others):
+            if any(box_iou(det, o.box) > 0.3 for o in others) or not self._single_person(d, det):
                 continue
             off = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2]) - d.center
             if np.linalg.norm(off) > c.lost_search_heights * d.box[3]:
                 continue
-            score = histogram_similarity(colour_histogram(frame, det), d.stored_histogram)
+            hist = colour_histogram(frame, det)
+            score = histogram_similarity(hist, d.stored_histogram)
+            if long_lost and any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
+                                 for o in others if not (o.status == TRACKED and o.missed == 0)):
+                continue
             if score > best_score:
                 best, best_score = tuple(float(v) for v in det), score
         if best is None:
             return False
-        d.tracker.init(frame, best)  # its filter learned whatever it drifted onto: start afresh
-        d.box, d.missed, d.confidence = best, 0, float(np.clip(best_score, 0, 1))
-        d.centers, d.clear_track = [d.center], []
-        d.stored_box, d.stored_frame = best, self.frame_index
+        self._restart(d, frame, best, best_score)
+        if long_lost:
+            d.recovering_until = self.frame_index + c.recovery_frames
         return True
 
+    def _restart(self, d: DancerTrack, frame, box, score: float) -> None:
+        """Restart dancer ``d``'s tracker on ``box`` (its filter learned whatever it drifted onto)."""
+        d.offset = np.zeros(2)
+        d.tracker.init(frame, self._core(box))
+        d.box, d.missed, d.confidence = tuple(float(v) for v in box), 0, float(np.clip(score, 0, 1))
+        d.centers, d.clear_track = [d.body_center], []
+        d.stored_box, d.stored_frame = d.box, self.frame_index
+
+    def _single_person(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
+        """Whether ``detection`` can be dancer ``d`` alone: its body core overlaps no other dancer's and its height
+        is within ``max_height_change`` (default: the config's) of ``d``'s box height (a box around two people is
+        neither)."""
+        c = self.config
+        change = max_height_change or c.max_height_change
+        ratio = detection[3] / d.box[3]
+        return (1 / change <= ratio <= change
+                and all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold
+                        for o in self.dancers if o is not d))
+
+    def _adapt_box(self, d: DancerTrack, frame, detection) -> None:
+        """Move the box of a clear dancer part of the way (``box_adaptation``) towards the one person detected on
+        it: size (times the ratio of the dancer's box to the first detection on it, so the initial box's
+        convention is kept) and offset of the box centre from the tracker's centre (at most ``max_box_offset`` x
+        the box size). When the box height has drifted by more than ``retrack_scale`` from the tracker's template, the
+        tracker restarts on the new box."""
+        c = self.config
+        a = c.box_adaptation
+        centre = np.asarray(d.tracker.center, float)
+        detected = np.array(detection[2:], float)
+        if d.size_ratio is None:  # keep the convention of the initial box (e.g. a margin around the body)
+            d.size_ratio = np.clip(np.array(d.box[2:]) / detected, 1 / c.max_size_ratio, c.max_size_ratio)
+        size = (1 - a) * np.array(d.box[2:]) + a * d.size_ratio * detected
+        d.offset = np.clip((1 - a) * d.offset + a * (_centre(detection) - centre), -c.max_box_offset * size,
+                           c.max_box_offset * size)
+        d.box = _box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))
+        if abs(np.log(size[1] / d.tracker.base_size[1])) > np.log(c.retrack_scale):
+            d.offset = np.zeros(2)
+            d.tracker.init(frame, self._core(d.box))
+
     @staticmethod
-    def _fit_velocity(track) -> np.ndarray:
-        """Least-squares velocity (px/frame) through (frame, centre) samples; zero with fewer than 2."""
+    def _fit_velocity(track, max_speed: float = np.inf) -> np.ndarray:
+        """Least-squares velocity (px/frame) through (frame, centre) samples, at most ``max_speed`` px/frame;
+        zero with fewer than 2."""
         if len(track) < 2:
             return np.zeros(2)
         f = np.array([ft for ft, _ in track], float)
         p = np.array([pt for _, pt in track], float)
         f -= f.mean()
-        return (f[:, None] * (p - p.mean(axis=0))).sum(axis=0) / (f ** 2).sum()
+        v = (f[:, None] * (p - p.mean(axis=0))).sum(axis=0) / (f ** 2).sum()
+        speed = float(np.linalg.norm(v))
+        return v * (max_speed / speed) if speed > max_speed else v
 
     def _failed(self, d: DancerTrack, frame, overlapping: list[int], boxes) -> bool:
         c = self.config
@@ -330,12 +447,50 @@ class MultiDancerTracker:
                 best, best_score = box, score
         if best is None or (best_score < c.relocate_min_similarity and not force):
             return  # stay occluded; try again next frame
-        d.tracker.center = (best[0] + best[2] / 2, best[1] + best[3] / 2)
-        d.tracker.scale = best[2] / d.tracker.base_size[0]
-        d.box = best
+        self._take(d, best, best_score)
+
+    def _take(self, d: DancerTrack, box, score: float) -> None:
+        """Dancer ``d`` is seen again at ``box`` (histogram similarity ``score``): tracking resumes there."""
+        d.tracker.center = (box[0] + box[2] / 2, box[1] + box[3] / 2)
+        d.offset = np.zeros(2)
+        d.box = tuple(float(v) for v in box)
         d.status = TRACKED
         d.missed = 0
-        d.confidence = float(np.clip(best_score, 0, 1))
-        d.centers = [d.center]
+        d.confidence = float(np.clip(score, 0, 1))
+        d.centers = [d.body_center]
         d.clear_track = []
-        d.stored_box, d.stored_frame = best, self.frame_index
+        d.stored_box, d.stored_frame = d.box, self.frame_index
+
+    def _reidentify(self, frame, occluded: list[DancerTrack], own_boxes: list, detections) -> None:
+        """Occluded dancers that show clearly again take their place before the predicted end of the overlap.
+
+        Candidates of each occluded dancer are its own tracker's box, its predicted box and the detections near
+        it, if clear of every tracked dancer. Best matches first, a candidate is taken when its histogram
+        correlates with the dancer's memory at least ``reid_similarity`` and better by ``reid_margin`` than with
+        any other occluded dancer's memory, and when it is clear of the candidates taken before (the dancer in
+        front of a group shows whole and is taken first)."""
+        c = self.config
+        if not occluded:
+            return
+        tracked = [o.box for o in self.dancers if o.status == TRACKED]
+        options = []
+        for d, own in zip(occluded, own_boxes):
+            near = [tuple(float(v) for v in det) for det in detections or []
+                    if np.linalg.norm(_centre(det) - d.center) <= c.min_search_radius * d.box[3] * 2]
+            for box in [own] + near:
+                if any(self._bodies_overlap(box, o) > c.overlap_threshold for o in tracked):
+                    continue
+                hist = colour_histogram(frame, box)
+                score = histogram_similarity(hist, d.stored_histogram)
+                if score >= c.reid_similarity:
+                    options.append((score, d.dancer_id, box, hist))
+        taken = []
+        for score, i, box, hist in sorted(options, key=lambda o: -o[0]):
+            d = self.dancers[i]
+            if d.status != OCCLUDED or any(self._bodies_overlap(box, b) > c.overlap_threshold for b in taken):
+                continue
+            if any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
+                   for o in occluded if o is not d):
+                continue
+            self._take(d, box, score)
+            taken.append(box)

@@ -203,7 +203,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 tracker.step(frame, detections=[p.box for p in people] if run_detector else None)
             for s in starts:
                 if s.frame == t:
-                    tracker.add_dancer(frame, s.box)
+                    tracker.add_dancer(frame, s.box, [p.box for p in people] if run_detector else None)
             result = _pad(tracker.result(), n)
             stage["track"] += time.perf_counter() - tic
             kp = np.full((n, 25, 3), np.nan, np.float32)
