@@ -70,6 +70,7 @@ class FitSettings:
     hinge_velocity_weight: float = 2.0  # per radian between frames
     penetration_weight: float = 3000.0  # per metre below the floor
     skate_weight: float = 100.0  # per metre of sliding while in contact
+    pose_prior_weight: float = 0.0  # learned hinge prior (hdvr.fitting.prior), per unit Mahalanobis; 0 = off
     bone_prior_weight: float = 1.0  # multiplies (b - mean h) / (std h)
     focal_prior_sigma: float = 0.7  # std of log focal around the field-of-view guess
     max_iter: int = 8
