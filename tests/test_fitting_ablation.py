@@ -20,7 +20,9 @@ def test_ablation_switches_change_the_settings():
     assert not settings_for("no_joint_limits", base).joint_limits
     assert not settings_for("no_temporal", base).temporal
     assert settings_for("physics", base).physics
+    assert base.pose_prior_weight > 0 and settings_for("no_pose_prior", base).pose_prior_weight == 0
     assert settings_for("paper", base).stride == 1 and settings_for("paper", base).focal == 1000.0
+    assert settings_for("paper", base).pose_prior_weight == 0
 
 
 def test_ablate_command_writes_markdown_and_json(shared_data, tmp_path):

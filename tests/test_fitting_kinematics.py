@@ -85,3 +85,24 @@ def test_collapsed_terms_keep_the_minimiser():
     full = sum(np.sum((t.weight * (t.coef * p + t.const)) ** 2) for t in terms)
     m = merged[0]
     assert np.sum((m.weight * (m.coef * p + m.const) * m.mask[:, None]) ** 2) + const == pytest.approx(full)
+
+
+def test_pose_prior_loads_and_its_jacobian_matches_finite_differences(kin):
+    from hdvr.fitting.prior import shipped_prior
+
+    prior = shipped_prior()
+    assert prior.means.shape == (prior.num_components, 34) and prior.num_components >= 2
+    assert prior.sqrt_precision.shape[2] == 34 and np.all(prior.log_norm >= 0)
+    q = _pose(kin, 3)
+    e = prior.energies(q[7:])
+    assert np.isfinite(e).all() and prior.energy(q[7:]) == e.min()
+    kp = kin.keypoints(q)
+    x, quat = tangent_from_qpos(q)
+    problem = FrameProblem(kin, quat, project(kp, 1500.0, (960.0, 540.0)), np.ones(25), 1500.0,
+                           np.array([960.0, 540.0]), pose_prior=prior.term(q[7:], 0.7))
+    parts = problem.residual_parts(x)
+    # the prior rows are 0.7^2 times the chosen component's energy
+    assert np.isclose(np.sum(parts["pose_prior"] ** 2), 0.49 * e.min())
+    params = x + 0.01
+    num = _numeric(lambda v: problem.residual(v)[:, 0], params)
+    assert np.abs(problem.jacobian(params) - num).max() < 1e-4 * max(1.0, np.abs(num).max())

@@ -15,7 +15,9 @@ Residual groups (each a vector; the solver minimises the sum of squares):
   in contact in the previous frame;
 - proximal term ``w_prox (x - x_start)`` on the 40 pose parameters (Tikhonov damping of directions the image
   does not constrain, e.g. head roll or toe flexion; without it a Gauss-Newton step can jump to a far basin);
-- focal prior (when the focal length is a parameter): ``(log f - log f0) / sigma_log``.
+- focal prior (when the focal length is a parameter): ``(log f - log f0) / sigma_log``;
+- pose prior (radians, :mod:`hdvr.fitting.prior`): ``w L_k^T (q - mu_k)`` for one component k of the learned
+  hinge-angle mixture, plus a constant row (the component's normaliser).
 
 Parameters: the 40-value tangent of :mod:`hdvr.fitting.kinematics`, plus ``log f`` when ``estimate_focal``.
 Every derivative is analytic: MuJoCo site Jacobians chained with the pinhole projection Jacobian.
@@ -28,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from hdvr.fitting.kinematics import NUM_TANGENT, DancerKinematics, qpos_from_tangent
+from hdvr.fitting.prior import PriorTerm
 
 FOOT_KEYPOINTS = np.array([19, 20, 21, 22, 23, 24])  # BODY_25 toes and heels
 
@@ -104,6 +107,7 @@ class FrameProblem:
     focal_prior: tuple[float, float] | None = None  # (log f0, sigma of log f)
     proximal_weight: float = 0.0
     proximal_center: np.ndarray | None = None  # (40,) tangent the proximal term pulls towards
+    pose_prior: PriorTerm | None = None  # learned hinge prior (one mixture component)
 
     def __post_init__(self) -> None:
         self.terms3d, c3 = collapse_terms(self.terms3d)
@@ -181,6 +185,9 @@ class FrameProblem:
             parts["proximal"] = self.proximal_weight * (x - self.proximal_center)
         if self.estimate_focal and self.focal_prior is not None:
             parts["focal_prior"] = np.array([(np.log(f) - self.focal_prior[0]) / self.focal_prior[1]])
+        if self.pose_prior is not None:
+            pp = self.pose_prior
+            parts["pose_prior"] = np.append(pp.sqrt_precision @ (x[6:] - pp.mean), pp.offset)
         return parts
 
     def _skate_mask(self, fl: FloorTerms) -> np.ndarray:
@@ -275,6 +282,10 @@ class FrameProblem:
         if self.estimate_focal and self.focal_prior is not None:
             b = np.zeros((1, n))
             b[0, NUM_TANGENT] = 1.0 / self.focal_prior[1]
+            blocks.append(b)
+        if self.pose_prior is not None:
+            b = np.zeros((len(self.pose_prior.sqrt_precision) + 1, n))
+            b[:-1, 6:NUM_TANGENT] = self.pose_prior.sqrt_precision  # the constant row has no derivative
             blocks.append(b)
         return np.concatenate(blocks, axis=0)
 

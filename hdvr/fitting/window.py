@@ -28,6 +28,7 @@ import numpy as np
 from hdvr.fitting.intrinsics import smooth_focal
 from hdvr.fitting.kinematics import NUM_TANGENT, DancerKinematics, qpos_from_tangent, tangent_from_qpos
 from hdvr.fitting.presets import FitSettings
+from hdvr.fitting.prior import shipped_prior
 from hdvr.fitting.residuals import FloorTerms, FrameProblem, LinearTerm
 from hdvr.fitting.seeds import LIMB_NAMES, SEGMENTS, initial_pose, mirror_limb, random_bones, random_qpos
 from hdvr.fitting.solver import parameter_bounds, solve_frame
@@ -99,6 +100,7 @@ class WindowFitter:
         self.base_bones = kin.bone_lengths
         self.visible = ((weights > 0) & np.isfinite(obs).all(axis=2)).sum(axis=1)
         self.reinit_count = 0
+        self.prior = shipped_prior() if settings.pose_prior_weight > 0 else None
 
     def reprojection_px(self, frames: range, keypoints: np.ndarray, focals: np.ndarray) -> float:
         """Mean distance (pixels) between projected and observed visible keypoints over ``frames``."""
@@ -125,6 +127,8 @@ class WindowFitter:
     def solve(self, problem: FrameProblem, qpos0: np.ndarray, focal: float, max_iter: int):
         x0, quat = tangent_from_qpos(qpos0)
         problem.quat_ref = quat
+        if self.prior is not None:
+            problem.pose_prior = self.prior.term(qpos0[7:], self.s.pose_prior_weight)
         params0 = np.concatenate([x0, [np.log(focal)]]) if problem.estimate_focal else x0
         bounds = parameter_bounds(problem, self.kin.skeleton.lower, self.kin.skeleton.upper, self.s.joint_limits)
         if self.visible[0] >= 0 and not problem.terms3d and len(problem.visible) < MIN_VISIBLE:
