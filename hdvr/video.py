@@ -23,6 +23,7 @@ import cv2
 import numpy as np
 
 from hdvr.errors import HDVRError
+from hdvr.memory import keep_large_blocks_out_of_heap
 
 VIDEO_SUFFIXES = (".mp4", ".avi", ".mov", ".webm", ".mkv", ".m4v")
 
@@ -157,6 +158,7 @@ class VideoWriter:
                  preset: str = "superfast", pixel_format: str = "bgr24", background: bool = False):
         import av
 
+        keep_large_blocks_out_of_heap()  # frame-sized blocks would otherwise fragment the heap (hdvr.memory)
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.size = (int(size[0]), int(size[1]))
