@@ -22,7 +22,6 @@ import sys
 import time
 import resource
 import subprocess
-from dataclasses import replace
 from pathlib import Path
 
 os.environ.setdefault("HDVR_NO_PROGRESS", "1")
@@ -36,6 +35,7 @@ from hdvr.fitting.ablation import markdown_table, run_ablation  # noqa: E402
 from hdvr.fitting.presets import FitSettings  # noqa: E402
 from hdvr.fitting.sequence import fit_keypoints  # noqa: E402
 from hdvr.io.atomic import write_text_atomic  # noqa: E402
+from benchdoc import write_section  # noqa: E402
 from hdvr.io.bvh import load_mocap_body25  # noqa: E402
 from hdvr.io.keypoints2d import Keypoints2D  # noqa: E402
 from hdvr.layouts import BODY25_NAMES  # noqa: E402
@@ -169,18 +169,6 @@ def main() -> int:
     write_section(Path(args.out_md), "## 3D fitting", markdown(summary, speed, ablation, args, reference))
     print(f"wrote {args.out_md} and {args.out_json}")
     return 0
-
-
-def write_section(path: Path, heading: str, text: str) -> None:
-    """Replace the ``heading`` section (up to the next ``## `` heading) of a markdown file, or append it."""
-    old = path.read_text() if path.is_file() else "# Benchmarks\n\n"
-    if heading in old:
-        head, rest = old.split(heading, 1)
-        tail = rest.split("\n## ", 1)
-        new = head + text.rstrip("\n") + "\n\n" + ("## " + tail[1] if len(tail) > 1 else "")
-    else:
-        new = old.rstrip("\n") + "\n\n" + text
-    write_text_atomic(path, new.rstrip("\n") + "\n")
 
 
 def figures(clip: np.ndarray, name: str, seed: int) -> None:

@@ -34,17 +34,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from hdvr.synth.evaluate import evaluate_labeller  # noqa: E402
 from hdvr.synth.groundtruth import clip_spec, make_clip  # noqa: E402
+from benchdoc import cpu_name, write_section  # noqa: E402
 
 
 def machine() -> str:
-    cpu = "unknown CPU"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
+    cpu = cpu_name()
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     return f"{os.cpu_count()} CPU cores ({cpu}), {platform.system()} {platform.release()}, load average {load:.1f}"
 
@@ -265,15 +259,7 @@ def main() -> int:
     text = "\n".join(lines)
     print(text)
     if args.write:
-        from hdvr.io.atomic import write_text_atomic
-
-        path = Path(args.write)
-        old = path.read_text() if path.is_file() else "# Benchmarks\n\n"
-        if "## Synthetic data" in old:
-            head, rest = old.split("## Synthetic data", 1)
-            tail = rest.split("\n## ", 1)
-            old = head + ("## " + tail[1] if len(tail) > 1 else "")
-        write_text_atomic(path, old.rstrip("\n") + "\n\n" + text)
+        write_section(Path(args.write), "## Synthetic data", text)
     return 0
 
 

@@ -56,19 +56,10 @@ from hdvr.tracking.evaluation import evaluate_tracking, pck  # noqa: E402
 from hdvr.tracking.pipeline import find_dancers, track_video  # noqa: E402
 from hdvr.tracking.testclips import default_crossing_specs, render_clip  # noqa: E402
 from hdvr.video import VideoReader, VideoWriter  # noqa: E402
+from benchdoc import cpu_name  # noqa: E402
 
 SETTINGS = [(640, 1), (320, 1), (320, 2), (320, 3), (256, 2)]  # (detector input px, detector every k frames)
 REAL_VIDEO = REPO.parent / "shared" / "data" / "video" / "two-people-tree" / "video.mp4"
-
-
-def cpu_name() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
 
 
 def scaled_copy(src: Path, dst: Path, width: int = 640) -> None:

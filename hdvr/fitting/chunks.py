@@ -26,7 +26,8 @@ CHUNK_OVERLAP = 30  # frames two neighbouring chunks share (1 s at 30 fps)
 
 @dataclass(frozen=True)
 class Chunk:
-    """Frames ``[start, stop)`` fitted together; the stitched result keeps ``[keep_from, stop)`` or less."""
+    """Frames ``[start, stop)`` fitted together; ``[start, nominal_start)`` is shared with the previous chunk and
+    the stitched result switches to this chunk at the seam frame inside it (:func:`seam_frame`)."""
 
     start: int
     stop: int

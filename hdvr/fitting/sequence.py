@@ -134,13 +134,12 @@ def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, foc
     with progress(total=n * per_frame + sum(c.nominal_start - c.start for c in spans) * per_frame,
                   desc="fit3d") as bar:
         results = run_chunks(work, len(spans), resolve_workers(settings.workers), on_progress=bar.update)
-    track, reinit = results[0][0], results[0][1]
+    reinit = sum(count for _, count in results)
     if len(spans) == 1:
-        return track, reinit
+        return results[0][0], reinit
     full = Track(np.zeros((n, 41)), np.zeros((n, 25, 3)), np.zeros(n), np.zeros(n), np.zeros((n, 9)))
     seams = []
-    for c, (part, count) in zip(spans, results):
-        reinit += count if c.start else 0
+    for c, (part, _) in zip(spans, results):
         if c.start == 0:
             first = 0
         else:

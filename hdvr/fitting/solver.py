@@ -79,11 +79,8 @@ def projected_lm(residual, jacobian, x0: np.ndarray, lo: np.ndarray, hi: np.ndar
         at_lo = (x <= lo + 1e-12) & (grad > 0)
         at_hi = (x >= hi - 1e-12) & (grad < 0)
         free = ~(at_lo | at_hi)
-        if free.all():
-            h, g = hess, grad
-        else:
-            h = hess[np.ix_(free, free)]
-            g = grad[free]
+        all_free = bool(free.all())  # the common case: no fancy indexing
+        h, g = (hess, grad) if all_free else (hess[np.ix_(free, free)], grad[free])
         diag = h.diagonal().copy()
         floor = 1e-9 * max(float(diag.max(initial=0.0)), 1e-12)
         improved = False
@@ -98,7 +95,7 @@ def projected_lm(residual, jacobian, x0: np.ndarray, lo: np.ndarray, hi: np.ndar
                 lam *= 4.0
                 continue
             x_new = x.copy()
-            if free.all():
+            if all_free:
                 x_new += step
             else:
                 x_new[free] += step
