@@ -19,7 +19,8 @@ def register(subparsers) -> None:
     p.add_argument("--ground-truth", nargs="*", default=None,
                    help="per clip, an NPZ with 'keypoints3d' (T, 25, 3) metres in the camera frame (BODY_25)")
     p.add_argument("--settings", nargs="*", default=None,
-                   help="ablations to run (default: full no_joint_limits no_bone_prior no_temporal physics)")
+                   help="ablations to run (default: all but paper: full no_joint_limits no_bone_prior no_temporal "
+                        "no_pose_prior no_upright physics)")
     p.add_argument("--out-dir", required=True, help="folder for ablation.md and ablation.json")
     add_fit_arguments(p)
     p.set_defaults(func=run)

@@ -26,6 +26,10 @@ def add_fit_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-bone-prior", action="store_true",
                    help="ablation: no per-dancer bone lengths (each window draws its own from mean +- std)")
     p.add_argument("--no-temporal", action="store_true", help="ablation: no temporal smoothness")
+    p.add_argument("--no-pose-prior", action="store_true", help="ablation: no learned hinge-angle prior")
+    p.add_argument("--no-upright", action="store_true",
+                   help="ablation: no trunk tilt prior (for dancers who lean far towards or away from the camera "
+                        "for long stretches, e.g. floor work)")
     p.add_argument("--joint-ranges", choices=("anatomical", "paper"), default=None,
                    help="hinge ranges: the paper's, or widened to normal human motion (default)")
     p.add_argument("--refine-sweeps", type=int, default=None, help="sequence refinement sweeps (default 2)")
@@ -58,6 +62,10 @@ def settings_from_args(args: argparse.Namespace, **extra):
         overrides["bone_prior"] = False
     if getattr(args, "no_temporal", False):
         overrides["temporal"] = False
+    if getattr(args, "no_pose_prior", False):
+        overrides["pose_prior_weight"] = 0.0
+    if getattr(args, "no_upright", False):
+        overrides["upright_weight"] = 0.0
     overrides.update(extra)
     return paper_settings(**overrides) if getattr(args, "paper", False) else FitSettings(**overrides)
 

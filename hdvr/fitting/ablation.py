@@ -1,7 +1,7 @@
 """Kinematic-constraint ablations: the same clips fitted under each setting, one table.
 
 Settings (:data:`ABLATIONS`): ``full`` (HDVR defaults), ``no_joint_limits``, ``no_bone_prior`` (no per-dancer bone
-lengths: each window draws its own from mean +- std), ``no_temporal``, ``no_pose_prior``, ``physics`` (floor penetration and skating
+lengths: each window draws its own from mean +- std), ``no_temporal``, ``no_pose_prior``, ``no_upright``, ``physics`` (floor penetration and skating
 terms on), and ``paper`` (Algorithm 3* as published). Each row: MPJPE, P-MPJPE (mm, when ground truth is given),
 plausibility figures (:func:`hdvr.plausibility.summarize`) and frames per second, as medians over clips (metrics)
 or totals (speed).
@@ -31,6 +31,7 @@ ABLATIONS: dict[str, str] = {
     "no_bone_prior": "no per-dancer bone lengths (random per window, mean +- std)",
     "no_temporal": "no temporal smoothness terms",
     "no_pose_prior": "no learned hinge-angle prior (hdvr.fitting.prior)",
+    "no_upright": "no trunk tilt prior (residuals.UprightTerm)",
     "physics": "defaults + floor penetration and foot-skating residuals",
     "paper": "Algorithm 3* as published (window per frame, random seeds)",
 }
@@ -51,6 +52,8 @@ def settings_for(name: str, base: FitSettings) -> FitSettings:
         return replace(base, temporal=False, refine_sweeps=0)
     if name == "no_pose_prior":
         return replace(base, pose_prior_weight=0.0)
+    if name == "no_upright":
+        return replace(base, upright_weight=0.0)
     if name == "physics":
         return replace(base, physics=True)
     if name == "paper":

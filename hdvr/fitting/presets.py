@@ -71,6 +71,8 @@ class FitSettings:
     penetration_weight: float = 3000.0  # per metre below the floor
     skate_weight: float = 100.0  # per metre of sliding while in contact
     pose_prior_weight: float = 3.0  # learned hinge prior (hdvr.fitting.prior), per unit Mahalanobis; 0 = off
+    upright_weight: float = 64.0  # trunk tilt prior (residuals.UprightTerm), per unit sine of tilt; 0 = off
+    upright_robust_deg: float | None = 30.0  # tilt (degrees) beyond which the tilt prior gives way (Cauchy)
     bone_prior_weight: float = 1.0  # multiplies (b - mean h) / (std h)
     focal_prior_sigma: float = 0.7  # std of log focal around the field-of-view guess
     max_iter: int = 8
@@ -110,9 +112,9 @@ def paper_settings(**overrides) -> FitSettings:
     first-difference 2D/3D smoothness; no per-dancer calibration, no refinement, plain squared error.
     (The paper's optimiser, Adam for 50 epochs, is replaced by the box-bounded Levenberg-Marquardt solver.)"""
     base = FitSettings(stride=1, calibrate=False, joint_ranges="paper", reinit_px=1e9, seed_strategy="random",
-                       focal_per_window=True, face_weight=1.0, foot_weight=1.0, refine_sweeps=0, robust_px=None, bone_prior=False, acceleration_weight_3d=0.0,
-                       velocity_weight_3d=20.0, velocity_weight_2d=0.05, hinge_velocity_weight=0.0, max_iter=10,
-                       pose_prior_weight=0.0)
+                       focal_per_window=True, face_weight=1.0, foot_weight=1.0, refine_sweeps=0, robust_px=None,
+                       bone_prior=False, acceleration_weight_3d=0.0, velocity_weight_3d=20.0, velocity_weight_2d=0.05,
+                       hinge_velocity_weight=0.0, max_iter=10, pose_prior_weight=0.0, upright_weight=0.0)
     return replace(base, **overrides)
 
 

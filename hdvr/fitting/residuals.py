@@ -88,6 +88,34 @@ class FloorTerms:
 
 
 @dataclass
+class UprightTerm:
+    """Trunk tilt prior: residual ``weight (I - v v^T) (P_neck - P_mid_hip) / trunk_m`` (about ``weight sin(tilt)``),
+    with v the clip's vertical in the fitting frame (unit) and ``trunk_m`` the trunk length (metres)."""
+
+    vertical: np.ndarray  # (3,) unit
+    weight: float  # per unit sine of the tilt
+    trunk_m: float
+    robust_sine: float | None = None  # Cauchy scale (sine of the tilt) beyond which the prior gives way
+
+    def scale(self, r: np.ndarray) -> float:
+        """Factor turning the residual r (3,) into its robust version (1 without a robust scale)."""
+        if not self.robust_sine:
+            return 1.0
+        c2 = (self.weight * self.robust_sine) ** 2
+        s = float(r @ r)
+        return float(np.sqrt(c2 * np.log1p(s / c2) / s)) if s > 1e-12 else 1.0
+
+    @property
+    def projector(self) -> np.ndarray:
+        """(3, 3) ``weight (I - v v^T) / trunk_m``."""
+        v = self.vertical
+        return self.weight * (np.eye(3) - np.outer(v, v)) / self.trunk_m
+
+
+_NECK, _MID_HIP = 1, 8  # BODY_25 indices
+
+
+@dataclass
 class FrameProblem:
     """Everything needed to fit one frame; call :meth:`residual` and :meth:`jacobian` with the parameters."""
 
@@ -108,6 +136,7 @@ class FrameProblem:
     proximal_weight: float = 0.0
     proximal_center: np.ndarray | None = None  # (40,) tangent the proximal term pulls towards
     pose_prior: PriorTerm | None = None  # learned hinge prior (one mixture component)
+    upright: UprightTerm | None = None  # soft prior on the trunk's tilt from the clip's vertical
 
     def __post_init__(self) -> None:
         self.terms3d, c3 = collapse_terms(self.terms3d)
@@ -188,6 +217,9 @@ class FrameProblem:
         if self.pose_prior is not None:
             pp = self.pose_prior
             parts["pose_prior"] = np.append(pp.sqrt_precision @ (x[6:] - pp.mean), pp.offset)
+        if self.upright is not None:
+            r = self.upright.projector @ (kp[_NECK] - kp[_MID_HIP])
+            parts["upright"] = r * self.upright.scale(r)
         return parts
 
     def _skate_mask(self, fl: FloorTerms) -> np.ndarray:
@@ -287,6 +319,11 @@ class FrameProblem:
         if self.pose_prior is not None:
             b = np.zeros((len(self.pose_prior.sqrt_precision) + 1, n))
             b[:-1, 6:NUM_TANGENT] = self.pose_prior.sqrt_precision  # the constant row has no derivative
+            blocks.append(b)
+        if self.upright is not None:
+            b = np.zeros((3, n))
+            r = self.upright.projector @ (kp[_NECK] - kp[_MID_HIP])
+            b[:, :NUM_TANGENT] = self.upright.scale(r) * (self.upright.projector @ (jac[_NECK] - jac[_MID_HIP]))
             blocks.append(b)
         return np.concatenate(blocks, axis=0)
 

@@ -113,7 +113,8 @@ def refine(fitter: WindowFitter, track: Track, settings: FitSettings, floor: Flo
 
 
 def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, focal: float, pp: np.ndarray,
-                settings: FitSettings, estimate_focal: bool) -> tuple[Track, int]:
+                settings: FitSettings, estimate_focal: bool, vertical: np.ndarray | None = None
+                ) -> tuple[Track, int]:
     """Windows + refinement over the whole clip, chunk by chunk (:mod:`hdvr.fitting.chunks`), stitched.
 
     Returns the track (camera frame) and the number of re-initialised windows."""
@@ -125,7 +126,7 @@ def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, foc
         c = spans[i]
         chunk_settings = replace(settings, random_seed=settings.random_seed + 7919 * i)
         fitter = WindowFitter(kin, obs[c.start:c.stop], weights[c.start:c.stop], focal, pp, chunk_settings,
-                              estimate_focal)
+                              estimate_focal, vertical)
         track = fitter.fit(tick=tick)
         if settings.refine_sweeps > 0:
             track = refine(fitter, track, settings, estimate_floor(track.keypoints), tick=tick)
@@ -149,12 +150,30 @@ def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, foc
         for name in ("qpos", "keypoints", "focal", "cost", "bones"):
             getattr(full, name)[first:c.stop] = getattr(part, name)[first - c.start:]
     if settings.refine_sweeps > 0:  # smooth what is left of the step at each seam
-        fitter = WindowFitter(kin, obs, weights, focal, pp, settings, estimate_focal)
+        fitter = WindowFitter(kin, obs, weights, focal, pp, settings, estimate_focal, vertical)
         floor = estimate_floor(full.keypoints)
         for s in seams:
             refine(fitter, full, settings, floor, desc="seam", frames=range(s - SEAM_REFINE, s + SEAM_REFINE),
                    sweeps=settings.refine_sweeps + 1)
     return full, reinit
+
+
+def clip_vertical(keypoints_cam: np.ndarray, within_deg: float = 25.0, rounds: int = 3) -> np.ndarray:
+    """The clip's up direction (3,) in the camera frame from a fitted track (T, 25, 3) metres: the mean
+    mid-hip-to-neck direction, re-averaged ``rounds`` times over the frames within ``within_deg`` of it (dancers
+    are upright most of the time; bows and leans do not pull the estimate)."""
+    trunk = keypoints_cam[:, BODY25_NAMES.index("neck")] - keypoints_cam[:, BODY25_NAMES.index("mid_hip")]
+    trunk = trunk / np.maximum(np.linalg.norm(trunk, axis=1, keepdims=True), 1e-9)
+    trunk = trunk[np.isfinite(trunk).all(axis=1)]
+    up = trunk.mean(axis=0)
+    up /= np.linalg.norm(up)
+    for _ in range(rounds):
+        near = trunk @ up > np.cos(np.radians(within_deg))
+        if near.sum() < 3:
+            break
+        up = trunk[near].mean(axis=0)
+        up /= np.linalg.norm(up)
+    return up
 
 
 def resolve_workers(workers: int | None) -> int:
@@ -190,6 +209,7 @@ def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skel
     focal = intr.focal
     pp = np.asarray(intr.principal_point)
 
+    vertical = None
     if settings.calibrate:
         span = min(n, CALIBRATION_SPAN)
         quick = FitSettings(**{**settings.to_dict(), "seeds": 1, "refine_sweeps": 0, "focal_per_window": False})
@@ -206,10 +226,11 @@ def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skel
             focal = cal.focal
             bones = cal.bone_lengths
         kin.set_bone_lengths(bones)
+        vertical = clip_vertical(track0.keypoints)
     report.seconds["calibration"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    track, report.reinitialisations = fit_chunked(kin, obs, weights, focal, pp, settings, estimate_focal)
+    track, report.reinitialisations = fit_chunked(kin, obs, weights, focal, pp, settings, estimate_focal, vertical)
     fitter = WindowFitter(kin, obs, weights, focal, pp, settings, estimate_focal)
     floor = estimate_floor(track.keypoints)
     report.seconds["windows_and_refinement"] = time.perf_counter() - clock

@@ -29,7 +29,7 @@ from hdvr.fitting.intrinsics import smooth_focal
 from hdvr.fitting.kinematics import NUM_TANGENT, DancerKinematics, qpos_from_tangent, tangent_from_qpos
 from hdvr.fitting.presets import FitSettings
 from hdvr.fitting.prior import shipped_prior
-from hdvr.fitting.residuals import FloorTerms, FrameProblem, LinearTerm
+from hdvr.fitting.residuals import FloorTerms, FrameProblem, LinearTerm, UprightTerm
 from hdvr.fitting.seeds import LIMB_NAMES, SEGMENTS, initial_pose, mirror_limb, random_bones, random_qpos
 from hdvr.fitting.solver import parameter_bounds, solve_frame
 from hdvr.progress import progress
@@ -90,7 +90,7 @@ class WindowFitter:
     """Fits a clip window by window (see module doc)."""
 
     def __init__(self, kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, focal: float,
-                 principal_point, settings: FitSettings, estimate_focal: bool):
+                 principal_point, settings: FitSettings, estimate_focal: bool, vertical: np.ndarray | None = None):
         self.kin, self.obs, self.weights = kin, obs, weights
         self.focal0 = float(focal)
         self.pp = np.asarray(principal_point, dtype=np.float64)
@@ -101,6 +101,16 @@ class WindowFitter:
         self.visible = ((weights > 0) & np.isfinite(obs).all(axis=2)).sum(axis=1)
         self.reinit_count = 0
         self.prior = shipped_prior() if settings.pose_prior_weight > 0 else None
+        self.vertical = vertical  # (3,) the clip's up direction in the camera frame, if known
+
+    @property
+    def trunk_m(self) -> float:
+        """Distance (metres) from mid-hip to neck in the rest pose with the current bone lengths."""
+        key = self.kin.bone_lengths.tobytes()
+        if getattr(self, "_trunk_key", None) != key:
+            kp = self.kin.keypoints(self.kin.skeleton.rest_qpos())
+            self._trunk_key, self._trunk = key, float(np.linalg.norm(kp[1] - kp[8]))
+        return self._trunk
 
     def reprojection_px(self, frames: range, keypoints: np.ndarray, focals: np.ndarray) -> float:
         """Mean distance (pixels) between projected and observed visible keypoints over ``frames``."""
@@ -118,7 +128,11 @@ class WindowFitter:
                 floor: FloorTerms | None = None) -> FrameProblem:
         w = self.weights[t] if self.visible[t] >= MIN_VISIBLE else np.zeros_like(self.weights[t])
         t3, t2, th = temporal_terms(self.s, prev_kp, prev_q, next_kp, next_q, focal, self.pp)
-        return FrameProblem(self.kin, quat, self.obs[t], w, focal, self.pp, sigma_px=self.s.sigma_px,
+        upright = None
+        if self.vertical is not None and self.s.upright_weight > 0:
+            robust = np.sin(np.radians(self.s.upright_robust_deg)) if self.s.upright_robust_deg else None
+            upright = UprightTerm(self.vertical, self.s.upright_weight, self.trunk_m, robust)
+        return FrameProblem(self.kin, quat, self.obs[t], w, focal, self.pp, sigma_px=self.s.sigma_px, upright=upright,
                             robust_px=self.s.robust_px, terms3d=t3, terms2d=t2, hinge_terms=th, floor=floor,
                             estimate_focal=self.estimate_focal,
                             focal_prior=(np.log(self.focal0), self.s.focal_prior_sigma) if self.estimate_focal
