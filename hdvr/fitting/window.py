@@ -6,9 +6,10 @@ Two schedules (:class:`hdvr.fitting.presets.FitSettings`):
 - the paper's (``stride = 1``): a window centred on every frame t, re-solved from fresh random seeds; frame t of
   the winning seed is kept. Costs K (2 Delta + 1) frame solves per frame.
 - HDVR's default (``stride = 2 Delta + 1``): consecutive windows that do not overlap, each frame solved once per
-  seed; seed 0 continues the previous window (warm start), the other seeds mirror one limb in depth (cycling
-  over the four limbs), so that temporal consistency (the window error includes the smoothness terms against the
-  frames already committed) chooses between depth-ambiguous solutions. The first window also tries every yaw.
+  seed; seed 0 continues the previous window (warm start), the other seeds mirror one limb in depth (the
+  segments nearest to parallel with the image plane first), so that temporal consistency (the window error
+  includes the smoothness terms against the frames already committed) chooses between depth-ambiguous
+  solutions. The first window also tries every yaw.
   When a window's mean reprojection error exceeds ``max(reinit_px, 2 x`` the 25th percentile of the earlier
   windows'``)`` (the track was lost, typically in a fast spin, and the error creeps up), the window is re-solved
   from a fresh start on its 2D keypoints (every yaw, then every segment mirror) and that is kept if it fits
@@ -195,15 +196,20 @@ class WindowFitter:
         return starts
 
     def rank_segments(self, t: int, qpos: np.ndarray, window_index: int, focal: float) -> list[str]:
-        """Limb segments ordered by the reprojection error (pixels) of the keypoints they move, at frame ``t``
-        for pose ``qpos``: the worst-fitting segment is mirrored first. Ties (all fit) rotate with the window."""
+        """Limb segments in the order their depth mirrors are tried as seeds for a window starting at frame ``t``
+        from pose ``qpos``: by how nearly parallel to the image plane they lie (``|dz| / length``, smallest
+        first). A segment crossing that plane is where the track can continue on either side of it, so both
+        continuations are compared there. Ties rotate with the window. (Ranking by the segments' reprojection
+        error instead, as before, measured 1.5 mm worse P-MPJPE on 14 salsa clips, clean and with 3 px noise:
+        misfits are handled by re-initialisation.)"""
         kp = self.kin.keypoints(qpos)
-        proj = focal * kp[:, :2] / np.maximum(kp[:, 2:3], 1e-3) + self.pp
-        err = np.linalg.norm(proj - self.obs[t], axis=1)
-        err = np.where((self.weights[t] > 0) & np.isfinite(err), err, 0.0)
         order = np.roll(np.arange(len(LIMB_NAMES)), -window_index)
-        scores = [float(err[list(SEGMENTS[LIMB_NAMES[i]][2])].mean()) for i in order]
-        return [LIMB_NAMES[order[i]] for i in np.argsort(scores, kind="stable")[::-1]]
+        depth_slope = []
+        for i in order:
+            root, child, _ = SEGMENTS[LIMB_NAMES[i]]
+            d = kp[child] - kp[root]
+            depth_slope.append(abs(d[2]) / max(float(np.linalg.norm(d)), 1e-6))
+        return [LIMB_NAMES[order[i]] for i in np.argsort(depth_slope, kind="stable")]
 
     def best_of(self, frames: range, starts, prev_kp, prev_q, focal):
         best = None
