@@ -36,6 +36,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from hdvr.tracking.appearance import box_iou, box_overlap, colour_histogram, histogram_similarity
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
@@ -83,6 +84,10 @@ class MultiTrackerConfig:
     recovery_frames: int = 30  # frames after such a recovery in which the box restarts on any detection on it
     recovery_height_change: float = 2.5  # ... whose height is within this factor of the box's
     lost_search_heights: float = 3.0  # a lost dancer is searched among detections this many box heights away
+    group_min_score: float = 0.55  # a detection adapts an overlapping dancer's box only if it fits it this well
+    # (mean of the IoU and the IoU of the vertical extents: spread arms change the width, not the height)
+    group_margin: float = 0.15  # ... and fits every other dancer by this much less
+    group_adaptation: float = 0.5  # per such detection, weight of the detected box in the dancer's box
 
 
 @dataclass
@@ -266,6 +271,7 @@ class MultiDancerTracker:
             d.centers = (d.centers + [d.body_center])[-(c.motion_window + 1):]
         boxes = [d.box for d in self.dancers]
         # 2. memory update or failure test
+        group = []  # tracked dancers overlapping others
         for i, d in enumerate(self.dancers):
             if d.status != TRACKED:
                 continue
@@ -299,6 +305,10 @@ class MultiDancerTracker:
                 d.occlusion_end = self._predict_overlap_end(d, [self.dancers[j] for j in overlapping], t)
                 d.box = self._predicted_box(d, t)
                 d.confidence = 0.0
+            else:
+                group.append(d)
+        if detections is not None:
+            self._adapt_in_group(frame, group, detections)
         # 3-4. occluded dancers: predict; re-identify any that show clearly again; relocate from the predicted
         # end of the overlap on
         occluded = [d for d in self.dancers if d.status == OCCLUDED]
@@ -372,25 +382,67 @@ class MultiDancerTracker:
                 and all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold
                         for o in self.dancers if o is not d))
 
-    def _adapt_box(self, d: DancerTrack, frame, detection) -> None:
+    def _adapt_box(self, d: DancerTrack, frame, detection, weight: float | None = None, retrack: bool = True) -> None:
         """Move the box of a clear dancer part of the way (``box_adaptation``) towards the one person detected on
         it: size (times the ratio of the dancer's box to the first detection on it, so the initial box's
         convention is kept) and offset of the box centre from the tracker's centre (at most ``max_box_offset`` x
         the box size). When the box height has drifted by more than ``retrack_scale`` from the tracker's template, the
-        tracker restarts on the new box."""
+        tracker restarts on the new box (if ``retrack``; without it, the box-to-detection size ratio is not learned
+        either: used for dancers overlapping others). ``weight``: that of the detection (default
+        ``box_adaptation``)."""
         c = self.config
-        a = c.box_adaptation
+        a = c.box_adaptation if weight is None else weight
         centre = np.asarray(d.tracker.center, float)
         detected = np.array(detection[2:], float)
-        if d.size_ratio is None:  # keep the convention of the initial box (e.g. a margin around the body)
+        if d.size_ratio is None and retrack:  # keep the convention of the initial box (e.g. a margin around the
+            # body), learned from a clear dancer's detection
             d.size_ratio = np.clip(np.array(d.box[2:]) / detected, 1 / c.max_size_ratio, c.max_size_ratio)
-        size = (1 - a) * np.array(d.box[2:]) + a * d.size_ratio * detected
+        ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
+        size = (1 - a) * np.array(d.box[2:]) + a * ratio * detected
         d.offset = np.clip((1 - a) * d.offset + a * (_centre(detection) - centre), -c.max_box_offset * size,
                            c.max_box_offset * size)
         d.box = _box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))
-        if abs(np.log(size[1] / d.tracker.base_size[1])) > np.log(c.retrack_scale):
+        if retrack and abs(np.log(size[1] / d.tracker.base_size[1])) > np.log(c.retrack_scale):
             d.offset = np.zeros(2)
             d.tracker.init(frame, self._core(d.box))
+
+    @staticmethod
+    def _fit_score(box, det) -> float:
+        """How well detection ``det`` fits dancer box ``box`` (both (x, y, w, h) px), in [0, 1]: the mean of their
+        IoU and of the IoU of their vertical extents (spread arms change a dancer's width, hardly its height and
+        vertical position); 0 unless the detection covers the box's centre line."""
+        cx = box[0] + box[2] / 2
+        if not det[0] <= cx <= det[0] + det[2]:
+            return 0.0
+        inter = min(box[1] + box[3], det[1] + det[3]) - max(box[1], det[1])
+        union = max(box[1] + box[3], det[1] + det[3]) - min(box[1], det[1])
+        y_iou = max(0.0, inter) / union if union > 0 else 0.0
+        return 0.5 * (box_iou(box, det) + y_iou)
+
+    def _adapt_in_group(self, frame, group: list[DancerTrack], detections) -> None:
+        """Boxes of tracked dancers that overlap others adapt to detections that can be assigned to them
+        unambiguously. One assignment (Hungarian, on :meth:`_fit_score`) of the detections to all dancers (occluded
+        ones at their predicted boxes); a dancer of ``group`` takes its detection when the fit is at least
+        ``group_min_score``, better by ``group_margin`` than that of every other dancer, and the detection's height
+        is within ``max_height_change`` of the box's. The box moves ``group_adaptation`` of the way towards it (size
+        and offset from the tracker's centre, as for a clear dancer); the tracker is not restarted (its template
+        would take in the dancers around)."""
+        c = self.config
+        if not group or not detections:
+            return
+        dets = [tuple(float(v) for v in det) for det in detections]
+        boxes = [d.box if d.status == TRACKED else self._predicted_box(d, self.frame_index) for d in self.dancers]
+        score = np.array([[self._fit_score(b, det) for det in dets] for b in boxes])
+        for i, k in zip(*linear_sum_assignment(-score)):
+            d = self.dancers[i]
+            if d not in group or score[i, k] < c.group_min_score:
+                continue
+            others = np.delete(score[:, k], i)
+            if others.size and others.max() > score[i, k] - c.group_margin:
+                continue
+            if not 1 / c.max_height_change <= dets[k][3] / d.box[3] <= c.max_height_change:
+                continue
+            self._adapt_box(d, frame, dets[k], c.group_adaptation, retrack=False)
 
     @staticmethod
     def _fit_velocity(track, max_speed: float = np.inf) -> np.ndarray:
@@ -461,11 +513,22 @@ class MultiDancerTracker:
         d.clear_track = []
         d.stored_box, d.stored_frame = d.box, self.frame_index
 
+    def _claimed(self, detections) -> set[int]:
+        """Indices of the detections that tracked dancers take in one assignment (Hungarian on
+        :meth:`_fit_score`, at least ``group_min_score``)."""
+        tracked = [o.box for o in self.dancers if o.status == TRACKED]
+        if not tracked or not detections:
+            return set()
+        score = np.array([[self._fit_score(b, det) for det in detections] for b in tracked])
+        return {int(k) for i, k in zip(*linear_sum_assignment(-score)) if score[i, k] >= self.config.group_min_score}
+
     def _reidentify(self, frame, occluded: list[DancerTrack], own_boxes: list, detections) -> None:
         """Occluded dancers that show clearly again take their place before the predicted end of the overlap.
 
-        Candidates of each occluded dancer are its own tracker's box, its predicted box and the detections near
-        it, if clear of every tracked dancer. Best matches first, a candidate is taken when its histogram
+        Candidates of each occluded dancer are its own tracker's box, if clear of every tracked dancer, and the
+        detections near its predicted or its last clear position (within ``2 min_search_radius`` box heights) that
+        no tracked dancer takes (:meth:`_claimed`: a dancer seen in front of another is detected as a person of
+        its own even where the boxes overlap). Best matches first, a candidate is taken when its histogram
         correlates with the dancer's memory at least ``reid_similarity`` and better by ``reid_margin`` than with
         any other occluded dancer's memory, and when it is clear of the candidates taken before (the dancer in
         front of a group shows whole and is taken first)."""
@@ -473,13 +536,17 @@ class MultiDancerTracker:
         if not occluded:
             return
         tracked = [o.box for o in self.dancers if o.status == TRACKED]
+        dets = [tuple(float(v) for v in det) for det in detections or []]
+        claimed = self._claimed(dets)
+        free = [det for k, det in enumerate(dets) if k not in claimed]
         options = []
         for d, own in zip(occluded, own_boxes):
-            near = [tuple(float(v) for v in det) for det in detections or []
-                    if np.linalg.norm(_centre(det) - d.center) <= c.min_search_radius * d.box[3] * 2]
-            for box in [own] + near:
-                if any(self._bodies_overlap(box, o) > c.overlap_threshold for o in tracked):
-                    continue
+            radius = c.min_search_radius * d.box[3] * 2
+            near = [det for det in free if min(np.linalg.norm(_centre(det) - d.center),
+                                               np.linalg.norm(_centre(det) - _centre(d.stored_box))) <= radius]
+            if not any(self._bodies_overlap(own, o) > c.overlap_threshold for o in tracked):
+                near.append(own)
+            for box in near:
                 hist = colour_histogram(frame, box)
                 score = histogram_similarity(hist, d.stored_histogram)
                 if score >= c.reid_similarity:
