@@ -41,7 +41,7 @@ from scipy.optimize import linear_sum_assignment
 from hdvr.tracking.appearance import box_iou, box_overlap, colour_histogram, histogram_similarity
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
 
-TRACKED, OCCLUDED = "tracked", "occluded"
+TRACKED, OCCLUDED, OUT = "tracked", "occluded", "out"
 
 
 @dataclass(frozen=True)
@@ -88,6 +88,9 @@ class MultiTrackerConfig:
     # (mean of the IoU and the IoU of the vertical extents: spread arms change the width, not the height)
     group_margin: float = 0.15  # ... and fits every other dancer by this much less
     group_adaptation: float = 0.5  # per such detection, weight of the detected box in the dancer's box
+    edge_margin: float = 0.01  # x the frame's larger side: a box this close to the frame's edge touches it
+    out_fraction: float = 0.35  # a box with less than this fraction of its area in the frame is out of it
+    learn_inside: float = 0.9  # the tracker learns only while at least this fraction of its box is in the frame
 
 
 @dataclass
@@ -111,6 +114,7 @@ class DancerTrack:
     offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
     recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
     size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
+    exit_box: tuple[float, float, float, float] | None = None  # box (px) where the dancer left the frame
 
     @property
     def body_center(self) -> np.ndarray:
@@ -183,11 +187,34 @@ class MultiDancerTracker:
         return d.dancer_id
 
     def result(self) -> FrameResult:
+        """Boxes of this frame, clipped to the frame (px); NaN for dancers out of the frame."""
         if not self.dancers:
             return FrameResult(self.frame_index, np.zeros((0, 4)), (), np.zeros(0))
-        return FrameResult(self.frame_index, np.array([d.box for d in self.dancers], float),
-                           tuple(d.status for d in self.dancers),
-                           np.array([d.confidence for d in self.dancers], float))
+        boxes = np.array([self._clipped(d.box) if d.status != OUT else (np.nan,) * 4 for d in self.dancers], float)
+        return FrameResult(self.frame_index, boxes, tuple(d.status for d in self.dancers),
+                           np.array([d.confidence if d.status != OUT else 0.0 for d in self.dancers], float))
+
+    def _clipped(self, box) -> tuple[float, float, float, float]:
+        """The part of ``box`` inside the frame (px); the box itself if nothing of it is inside."""
+        w, h = self.frame_size
+        x0, y0 = max(box[0], 0.0), max(box[1], 0.0)
+        x1, y1 = min(box[0] + box[2], float(w)), min(box[1] + box[3], float(h))
+        if x1 - x0 < 1 or y1 - y0 < 1:
+            return tuple(float(v) for v in box)
+        return (x0, y0, x1 - x0, y1 - y0)
+
+    def _inside_fraction(self, box) -> float:
+        """Fraction of ``box``'s area inside the frame."""
+        w, h = self.frame_size
+        ix = max(0.0, min(box[0] + box[2], w) - max(box[0], 0.0))
+        iy = max(0.0, min(box[1] + box[3], h) - max(box[1], 0.0))
+        return ix * iy / (box[2] * box[3]) if box[2] * box[3] > 0 else 0.0
+
+    def _touches_edge(self, box) -> bool:
+        """Whether ``box`` reaches within ``edge_margin`` of the frame's edge (or beyond)."""
+        w, h = self.frame_size
+        m = self.config.edge_margin * max(w, h)
+        return box[0] < m or box[1] < m or box[0] + box[2] > w - m or box[1] + box[3] > h - m
 
     # ------------------------------------------------------------------ helpers
     def _core(self, box):
@@ -199,8 +226,9 @@ class MultiDancerTracker:
         return box_overlap(self._core(a), self._core(b))
 
     def _overlapping(self, i: int, boxes) -> list[int]:
-        return [j for j in range(len(boxes)) if j != i and self._bodies_overlap(boxes[i], boxes[j])
-                > self.config.overlap_threshold]
+        """Indices of the dancers (in the frame) whose body core in ``boxes`` overlaps dancer ``i``'s."""
+        return [j for j in range(len(boxes)) if j != i and self.dancers[j].status != OUT
+                and self._bodies_overlap(boxes[i], boxes[j]) > self.config.overlap_threshold]
 
     def _predicted_box(self, d: DancerTrack, frame_index: int):
         return _shift(d.stored_box, d.stored_velocity * (frame_index - d.stored_frame))
@@ -264,7 +292,9 @@ class MultiDancerTracker:
         for i, d in enumerate(self.dancers):
             if d.status != TRACKED:
                 continue
-            clear = not self._overlapping(i, prev_boxes)
+            # partly out of the frame the tracker does not learn either (a dancer walking out would leave it with a
+            # template of the background there)
+            clear = not self._overlapping(i, prev_boxes) and self._inside_fraction(d.box) >= c.learn_inside
             state = d.tracker.update(frame, learn=clear)
             d.box = _box_at(np.asarray(state.center) + d.offset, d.box)
             d.confidence = float(np.clip(state.confidence / 20.0, 0, 1))
@@ -290,6 +320,10 @@ class MultiDancerTracker:
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
                     continue
+            if self._touches_edge(d.box):  # memory kept from before; a dancer walking out of the frame is out
+                if self._leaves_frame(d, frame, t):
+                    self._set_out(d)
+                continue
             if not overlapping:
                 d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.body_center)]
                 d.stored_velocity = self._fit_velocity(d.clear_track, c.max_speed * d.box[3])
@@ -321,13 +355,74 @@ class MultiDancerTracker:
         for d, own in zip(occluded, own_boxes):
             if d.status != OCCLUDED:
                 continue
-            others = [o.box for o in self.dancers if o is not d]
+            if self._inside_fraction(d.box) < c.out_fraction:  # moved out of the frame behind the others
+                self._set_out(d)
+                continue
+            others = [o.box for o in self.dancers if o is not d and o.status != OUT]
             clear_now = any(all(self._bodies_overlap(b, o) <= c.overlap_threshold for o in others)
                             for b in (d.box, own))
             if t >= d.occlusion_end or clear_now:
                 self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames,
                                extra=[own])
+        # 5. dancers out of the frame: re-identified when they come back
+        self._reenter(frame, detections)
         return self.result()
+
+    def _leaves_frame(self, d: DancerTrack, frame, t: int) -> bool:
+        """Whether dancer ``d``, whose box touches the frame's edge, has left the frame: its box is less than
+        ``out_fraction`` inside, or no person was detected on it for ``max_missed_detections`` detector frames, or
+        its last clear box moved on with its stored velocity is and the box no longer
+        matches its stored histogram (``failure_histogram``: the tracker stuck at the edge on the background,
+        while a dancer who turns back at the edge is still seen there)."""
+        c = self.config
+        if self._inside_fraction(d.box) < c.out_fraction or d.missed >= c.max_missed_detections:
+            return True
+        if self._inside_fraction(self._predicted_box(d, t)) >= c.out_fraction:
+            return False
+        return histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram) < c.failure_histogram
+
+    def _set_out(self, d: DancerTrack) -> None:
+        """Dancer ``d`` has left the frame: no box until it is re-identified (:meth:`_reenter`)."""
+        d.status, d.confidence, d.missed = OUT, 0.0, 0
+        d.exit_box = d.box
+
+    def _reenter(self, frame, detections) -> None:
+        """Dancers out of the frame who come back are re-identified on person detections (without a detector
+        they stay out: patches at the edge were tried, but a thin dancer's histogram is mostly background and
+        matched the empty edge). Candidates: the detections that no tracked dancer takes (:meth:`_claimed`; a
+        dancer comes back at the edge, or anywhere after a tracker pushed off the frame) and whose height is within ``max_height_change`` of the dancer's last clear box. Best matches first, a candidate is taken when its histogram correlates with the
+        dancer's memory at least ``reid_similarity`` and better by ``reid_margin`` than with the memory of every
+        other dancer not seen now (occluded or out), and when it is clear of the candidates taken before. The
+        dancer's tracker restarts there, with no velocity."""
+        c = self.config
+        out = [d for d in self.dancers if d.status == OUT]
+        if not out or not detections:
+            return
+        dets = [tuple(float(v) for v in det) for det in detections]
+        claimed = self._claimed(dets)
+        free = [det for k, det in enumerate(dets) if k not in claimed]
+        unseen = [o for o in self.dancers if o.status != TRACKED]
+        options = []
+        for d in out:
+            for box in free:
+                if not 1 / c.max_height_change <= box[3] / d.stored_box[3] <= c.max_height_change:
+                    continue  # a hand or a leg reaching into the frame
+                hist = colour_histogram(frame, box)
+                score = histogram_similarity(hist, d.stored_histogram)
+                if score >= c.reid_similarity:
+                    options.append((score, d.dancer_id, box, hist))
+        taken = []
+        for score, i, box, hist in sorted(options, key=lambda o: -o[0]):
+            d = self.dancers[i]
+            if d.status != OUT or any(self._bodies_overlap(box, b) > c.overlap_threshold for b in taken):
+                continue
+            if any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
+                   for o in unseen if o is not d):
+                continue
+            self._take(d, box, score)
+            d.tracker.init(frame, self._core(box))
+            d.stored_velocity = np.zeros(2)
+            taken.append(box)
 
     def _jump_to_detection(self, d: DancerTrack, frame, detections) -> bool:
         """A dancer whose box has held no detected person for a while moves to a detected person nearby that
