@@ -88,7 +88,6 @@ class MultiTrackerConfig:
     # (mean of the IoU and the IoU of the vertical extents: spread arms change the width, not the height)
     group_margin: float = 0.15  # ... and fits every other dancer by this much less
     group_adaptation: float = 0.5  # per such detection, weight of the detected box in the dancer's box
-    edge_margin: float = 0.01  # x the frame's larger side: a box this close to the frame's edge touches it
     out_fraction: float = 0.35  # a box with less than this fraction of its area in the frame is out of it
     learn_inside: float = 0.9  # the tracker learns only while at least this fraction of its box is in the frame
 
@@ -210,12 +209,6 @@ class MultiDancerTracker:
         iy = max(0.0, min(box[1] + box[3], h) - max(box[1], 0.0))
         return ix * iy / (box[2] * box[3]) if box[2] * box[3] > 0 else 0.0
 
-    def _touches_edge(self, box) -> bool:
-        """Whether ``box`` reaches within ``edge_margin`` of the frame's edge (or beyond)."""
-        w, h = self.frame_size
-        m = self.config.edge_margin * max(w, h)
-        return box[0] < m or box[1] < m or box[0] + box[2] > w - m or box[1] + box[3] > h - m
-
     # ------------------------------------------------------------------ helpers
     def _core(self, box):
         """The body core of a box: centred, at most ``core_aspect`` x its height wide (spread arms left out)."""
@@ -320,7 +313,7 @@ class MultiDancerTracker:
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
                     continue
-            if self._touches_edge(d.box):  # memory kept from before; a dancer walking out of the frame is out
+            if self._inside_fraction(d.box) < c.learn_inside:  # partly out of the frame: memory kept from before
                 if self._leaves_frame(d, frame, t):
                     self._set_out(d)
                 continue
@@ -369,7 +362,7 @@ class MultiDancerTracker:
         return self.result()
 
     def _leaves_frame(self, d: DancerTrack, frame, t: int) -> bool:
-        """Whether dancer ``d``, whose box touches the frame's edge, has left the frame: its box is less than
+        """Whether dancer ``d``, whose box is partly out of the frame, has left it: its box is less than
         ``out_fraction`` inside, or no person was detected on it for ``max_missed_detections`` detector frames, or
         its last clear box moved on with its stored velocity is and the box no longer
         matches its stored histogram (``failure_histogram``: the tracker stuck at the edge on the background,
