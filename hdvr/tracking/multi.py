@@ -366,12 +366,11 @@ class MultiDancerTracker:
 
     def _leaves_frame(self, d: DancerTrack, frame, t: int) -> bool:
         """Whether dancer ``d``, whose box is partly out of the frame, has left it: its box is less than
-        ``out_fraction`` inside, or no person was detected on it for ``max_missed_detections`` detector frames, or
-        its last clear box moved on with its stored velocity is and the box no longer
+        ``out_fraction`` inside, or its last clear box moved on with its stored velocity is and the box no longer
         matches its stored histogram (``failure_histogram``: the tracker stuck at the edge on the background,
         while a dancer who turns back at the edge is still seen there)."""
         c = self.config
-        if self._inside_fraction(d.box) < c.out_fraction or d.missed >= c.max_missed_detections:
+        if self._inside_fraction(d.box) < c.out_fraction:
             return True
         if self._inside_fraction(self._predicted_box(d, t)) >= c.out_fraction:
             return False
