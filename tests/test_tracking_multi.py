@@ -144,3 +144,66 @@ def test_three_and_four_dancer_seeds(tmp_path, num_dancers, seed):
     boxes, _ = _run(tmp_path / "clip.mp4", truth)
     scores = evaluate_tracking(truth.boxes, boxes)
     assert scores.id_switches == 0 and scores.idf1 >= 0.9, scores
+
+
+def _exit_clip(path, frames=160, seed=0):
+    """Figure 1 walks out on the right (frames ~62-119 off-frame) and back in; figure 0 walks in the frame."""
+    from dataclasses import replace
+
+    specs = default_crossing_specs(num_figures=2, seed=seed)
+    specs[1] = replace(specs[1], start=(0.7 * 640, specs[1].start[1]), velocity=(abs(specs[1].velocity[0]), 0.0),
+                       turn=(0.06, 1.2))
+    return render_clip(path, frames=frames, specs=specs, seed=seed)
+
+
+def test_dancer_leaving_the_frame_is_out_and_reidentified(tmp_path):
+    """A dancer who walks out of the frame gets no box (status "out") instead of one stuck at the edge, and takes
+    its box again from a detection when it comes back; boxes are clipped to the frame."""
+    from hdvr.tracking.multi import OUT, TRACKED
+
+    truth = _exit_clip(tmp_path / "clip.mp4")
+    gone = ~np.isfinite(truth.boxes[:, 1, 0])
+    assert 25 < gone.sum() < 60  # the clip does what the test needs
+    dets = lambda t: [tuple(b) for b in truth.boxes[t] if np.isfinite(b).all()] if t % 3 == 0 else None  # noqa: E731
+    boxes, status = _run(tmp_path / "clip.mp4", truth, dets)
+    out = np.array([s[1] == OUT for s in status])
+    assert out[gone].mean() > 0.9, np.flatnonzero(out)
+    assert np.isnan(boxes[out, 1]).all() and np.isfinite(boxes[~out, 1]).all()
+    assert status[-1][1] == TRACKED and status[-1][0] == TRACKED
+    end = boxes[-1, 1, :2] + boxes[-1, 1, 2:] / 2
+    assert np.linalg.norm(end - (truth.boxes[-1, 1, :2] + truth.boxes[-1, 1, 2:] / 2)) < 30
+    finite = np.isfinite(boxes).all(axis=-1)
+    assert (boxes[finite][:, 0] >= 0).all() and (boxes[finite][:, 0] + boxes[finite][:, 2] <= 640 + 1e-6).all()
+    scores = evaluate_tracking(truth.boxes, boxes)
+    assert scores.id_switches == 0 and scores.idf1 > 0.8, scores  # re-entry starts on a partial detection
+
+
+def test_dancer_leaving_without_detector_is_out(tmp_path):
+    """Without detections a dancer walking out is marked out once its box, moved on with its velocity, has left
+    and the box at the edge no longer matches its memory; the other dancer is not disturbed."""
+    from hdvr.tracking.multi import OUT
+
+    truth = _exit_clip(tmp_path / "clip.mp4", frames=100)
+    boxes, status = _run(tmp_path / "clip.mp4", truth)
+    gone = ~np.isfinite(truth.boxes[:, 1, 0])
+    out = np.array([s[1] == OUT for s in status])
+    assert out[gone].all() and not out[:50].any(), np.flatnonzero(out)
+    assert not any(s[0] == OUT for s in status)
+
+
+def test_overlapping_dancer_box_adapts_to_its_detection(tmp_path):
+    """With ``adapt_in_groups``, a dancer overlapping another adapts its box to a detection that fits it clearly
+    better than anyone else, and not to an ambiguous one."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=2, specs=default_crossing_specs(num_figures=2, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    a = (300.0, 120.0, 80.0, 280.0)
+    tracker = MultiDancerTracker(frames[0], [a, (330.0, 200.0, 60.0, 200.0)])
+    d = tracker.dancers[0]
+    wide = (285.0, 118.0, 140.0, 284.0)  # dancer 0 with spread arms: fits it, not the smaller dancer 1
+    tracker._adapt_in_group(frames[1], [d], [wide, (332.0, 198.0, 58.0, 204.0)])
+    assert d.box[2] > a[2] + 20  # half-way towards the detected width
+    tracker2 = MultiDancerTracker(frames[0], [a, (305.0, 125.0, 78.0, 275.0)])
+    before = tracker2.dancers[0].box
+    tracker2._adapt_in_group(frames[1], [tracker2.dancers[0]], [wide])  # fits both dancers alike: ambiguous
+    assert tracker2.dancers[0].box == before
+    assert truth.boxes.shape == (2, 2, 4)

@@ -1,8 +1,9 @@
 """Procedural test videos with known trajectories: textured stick figures that walk, swing their arms, cross
 and occlude each other in front of a textured background.
 
-Figures walk in straight lines and turn back at the left and right edges (6 % of the width from them), so a long
-clip has many crossings. Each figure has a skeleton (BODY_25 joints, pixels) animated per frame; its ground-truth
+Figures walk in straight lines and turn back at the left and right edges (by default 6 % of the width from them),
+so a long clip has many crossings; a figure whose turning point lies outside the frame walks out and back in
+(its ground-truth box is NaN while nothing of it is in the frame, and covers the part inside the frame). Each figure has a skeleton (BODY_25 joints, pixels) animated per frame; its ground-truth
 box is the amodal
 (x, y, w, h) box of the drawn figure, occluded parts included, as in the MOT challenge. Figures are drawn back
 to front in a fixed depth order, so at a crossing the nearer figure hides the farther one.
@@ -38,6 +39,8 @@ class FigureSpec:
     colours: tuple[tuple[int, int, int], tuple[int, int, int]]  # two stripe colours of its texture
     depth: float  # larger = farther (drawn first)
     phase: float = 0.0  # of the arm/leg swing, radians
+    turn: tuple[float, float] = (0.06, 0.94)  # x of the left and right turning points, fractions of the width;
+    # outside (0, 1) the figure walks out of the frame and back in
 
 
 @dataclass
@@ -146,7 +149,7 @@ def render_clip(path: str | os.PathLike, frames: int = 150, size=(640, 480), fps
             frame = bg.copy()
             for i in order:
                 s = specs[i]
-                c = (_bounce(s.start[0] + s.velocity[0] * t, 0.06 * size[0], 0.94 * size[0]),
+                c = (_bounce(s.start[0] + s.velocity[0] * t, s.turn[0] * size[0], s.turn[1] * size[0]),
                      s.start[1] + s.velocity[1] * t)
                 pts = skeleton(c, s.height, t, s.phase)
                 mask = np.zeros((size[1], size[0]), np.uint8)
