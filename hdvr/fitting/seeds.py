@@ -8,7 +8,7 @@ import numpy as np
 
 from hdvr import dh
 from hdvr.fitting.kinematics import DancerKinematics, quat_from_matrix
-from hdvr.fitting.residuals import FrameProblem, LinearTerm
+from hdvr.fitting.residuals import FrameProblem, LinearTerm, UprightTerm
 from hdvr.fitting.solver import parameter_bounds, solve_frame
 from hdvr.fitting.kinematics import tangent_from_qpos, qpos_from_tangent
 from hdvr.layouts import BODY25_NAMES
@@ -30,11 +30,16 @@ for _side in ("right", "left"):
 LIMB_NAMES = tuple(SEGMENTS)
 
 
-def root_rotation_facing(yaw_rad: float) -> np.ndarray:
-    """Pelvis rotation (3, 3) in the camera frame: upright (body z -> image up), turned ``yaw`` from facing the
-    camera (yaw 0: body x -> towards the camera)."""
-    up = np.array([0.0, -1.0, 0.0])
-    forward = np.array([np.sin(yaw_rad), 0.0, -np.cos(yaw_rad)])
+def root_rotation_facing(yaw_rad: float, vertical: np.ndarray | None = None) -> np.ndarray:
+    """Pelvis rotation (3, 3) in the camera frame: upright (body z -> ``vertical``, the clip's up direction in the
+    camera frame; default image up), turned ``yaw`` from facing the camera (yaw 0: body x -> towards the
+    camera)."""
+    up = np.array([0.0, -1.0, 0.0]) if vertical is None else np.asarray(vertical, dtype=np.float64)
+    up = up / np.linalg.norm(up)
+    towards = np.array([0.0, 0.0, -1.0]) - up * -up[2]  # towards the camera, perpendicular to up
+    towards /= np.linalg.norm(towards)
+    side = np.cross(up, towards)
+    forward = np.cos(yaw_rad) * towards + np.sin(yaw_rad) * side
     left = np.cross(up, forward)
     return np.stack([forward, left, up], axis=1)
 
@@ -65,10 +70,11 @@ def root_from_2d(obs: np.ndarray, weights: np.ndarray, focal: float, principal_p
     return np.array([xy[0], xy[1], depth])
 
 
-def upright_qpos(kin: DancerKinematics, root_pos: np.ndarray, yaw_rad: float) -> np.ndarray:
+def upright_qpos(kin: DancerKinematics, root_pos: np.ndarray, yaw_rad: float,
+                 vertical: np.ndarray | None = None) -> np.ndarray:
     q = kin.skeleton.rest_qpos()
     q[:3] = root_pos
-    q[3:7] = quat_from_matrix(root_rotation_facing(yaw_rad))
+    q[3:7] = quat_from_matrix(root_rotation_facing(yaw_rad, vertical))
     return q
 
 
@@ -118,22 +124,26 @@ def mirror_limb(problem: FrameProblem, qpos: np.ndarray, limb: str, bounds, max_
 
 def initial_pose(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, focal: float, principal_point,
                  joint_limits: bool = True, yaws: int = 8, max_iter: int = 15, robust_px: float | None = None,
-                 flips: bool = True) -> tuple[np.ndarray, float]:
-    """Best (qpos (41,), cost) over ``yaws`` upright starting orientations, each solved on the 2D keypoints,
-    then (``flips``) over the depth mirrors of the limb segments (:func:`resolve_flips`)."""
+                 flips: bool = True, vertical: np.ndarray | None = None, upright: UprightTerm | None = None
+                 ) -> tuple[np.ndarray, float]:
+    """Best (qpos (41,), cost) over ``yaws`` upright starting orientations (about ``vertical``, the clip's up
+    direction in the camera frame, when known), each solved on the 2D keypoints (plus the trunk tilt prior
+    ``upright``, if given), then (``flips``) over the depth mirrors of the limb segments (:func:`resolve_flips`)."""
     root = root_from_2d(obs, weights, focal, principal_point, kin.bone_lengths)
     best_q, best_cost = None, np.inf
     for yaw in np.arange(yaws) * 2 * np.pi / yaws:
-        q0 = upright_qpos(kin, root, yaw)
+        q0 = upright_qpos(kin, root, yaw, vertical)
         x0, quat = tangent_from_qpos(q0)
-        problem = FrameProblem(kin, quat, obs, weights, focal, np.asarray(principal_point), robust_px=robust_px)
+        problem = FrameProblem(kin, quat, obs, weights, focal, np.asarray(principal_point), robust_px=robust_px,
+                               upright=upright)
         bounds = parameter_bounds(problem, kin.skeleton.lower, kin.skeleton.upper, joint_limits)
         sol = solve_frame(problem, x0, bounds, max_iter=max_iter)
         if sol.cost < best_cost:
             best_q, best_cost = qpos_from_tangent(sol.params, quat), sol.cost
     assert best_q is not None and best_q.shape == (NQ,)
     if flips:
-        problem = FrameProblem(kin, None, obs, weights, focal, np.asarray(principal_point), robust_px=robust_px)
+        problem = FrameProblem(kin, None, obs, weights, focal, np.asarray(principal_point), robust_px=robust_px,
+                               upright=upright)
         bounds = parameter_bounds(problem, kin.skeleton.lower, kin.skeleton.upper, joint_limits)
         best_q, best_cost = resolve_flips(problem, best_q, bounds, max_iter)
     return best_q, best_cost

@@ -104,6 +104,13 @@ class WindowFitter:
         self.prior = shipped_prior() if settings.pose_prior_weight > 0 else None
         self.vertical = vertical  # (3,) the clip's up direction in the camera frame, if known
 
+    def upright_term(self) -> UprightTerm | None:
+        """The trunk tilt prior of this clip's frames (None without a known vertical or with weight 0)."""
+        if self.vertical is None or self.s.upright_weight <= 0:
+            return None
+        robust = np.sin(np.radians(self.s.upright_robust_deg)) if self.s.upright_robust_deg else None
+        return UprightTerm(self.vertical, self.s.upright_weight, self.trunk_m, robust)
+
     @property
     def trunk_m(self) -> float:
         """Distance (metres) from mid-hip to neck in the rest pose with the current bone lengths."""
@@ -129,11 +136,8 @@ class WindowFitter:
                 floor: FloorTerms | None = None) -> FrameProblem:
         w = self.weights[t] if self.visible[t] >= MIN_VISIBLE else np.zeros_like(self.weights[t])
         t3, t2, th = temporal_terms(self.s, prev_kp, prev_q, next_kp, next_q, focal, self.pp)
-        upright = None
-        if self.vertical is not None and self.s.upright_weight > 0:
-            robust = np.sin(np.radians(self.s.upright_robust_deg)) if self.s.upright_robust_deg else None
-            upright = UprightTerm(self.vertical, self.s.upright_weight, self.trunk_m, robust)
-        return FrameProblem(self.kin, quat, self.obs[t], w, focal, self.pp, sigma_px=self.s.sigma_px, upright=upright,
+        return FrameProblem(self.kin, quat, self.obs[t], w, focal, self.pp, sigma_px=self.s.sigma_px,
+                            upright=self.upright_term(),
                             robust_px=self.s.robust_px, terms3d=t3, terms2d=t2, hinge_terms=th, floor=floor,
                             estimate_focal=self.estimate_focal,
                             focal_prior=(np.log(self.focal0), self.s.focal_prior_sigma) if self.estimate_focal
@@ -262,7 +266,7 @@ class WindowFitter:
                     fresh, _ = initial_pose(self.kin, self.obs[lo], self.weights[lo], focal, self.pp,
                                             self.s.joint_limits, yaws=self.s.fresh_yaws,
                                             max_iter=self.s.fresh_iter, robust_px=self.s.robust_px,
-                                            flips=self.s.fresh_flips)
+                                            flips=self.s.fresh_flips, vertical=self.vertical)
                     out = self.run_chain(frames, fresh, [], [], focal)
                     fresh_err = self.reprojection_px(frames, out[1], out[2])
                     if fresh_err < err_px:
@@ -287,7 +291,7 @@ class WindowFitter:
         while t < len(self.obs) - 1 and self.visible[t] < MIN_VISIBLE:
             t += 1
         q, _ = initial_pose(self.kin, self.obs[t], self.weights[t], focal, self.pp, self.s.joint_limits,
-                            robust_px=self.s.robust_px)
+                            robust_px=self.s.robust_px, vertical=self.vertical)
         starts = [(q, None)]
         if self.s.seed_strategy == "mirror":
             problem = self.problem(t, None, focal, [], [])
