@@ -7,6 +7,7 @@ from hdvr.camera import project
 from hdvr.fitting.kinematics import DancerKinematics, qpos_from_tangent, quat_from_rotvec, tangent_from_qpos
 from hdvr.fitting.residuals import FloorTerms, FrameProblem, LinearTerm, collapse_terms
 from hdvr.skeleton import Skeleton
+from numeric import numeric_jacobian
 
 
 @pytest.fixture(scope="module")
@@ -22,15 +23,6 @@ def _pose(kin, seed=0):
     return q
 
 
-def _numeric(f, x, eps=1e-6):
-    cols = []
-    for i in range(len(x)):
-        d = np.zeros_like(x)
-        d[i] = eps
-        cols.append((f(x + d) - f(x - d)) / (2 * eps))
-    return np.stack(cols, axis=-1)
-
-
 def test_tangent_round_trip(kin):
     q = _pose(kin)
     x, quat = tangent_from_qpos(q)
@@ -42,7 +34,7 @@ def test_keypoint_jacobian_matches_finite_differences(kin):
     x, quat = tangent_from_qpos(q)
     x[3:6] = [0.2, -0.1, 0.3]  # non-zero rotation increment exercises the SO(3) right Jacobian
     _, jac = kin.keypoints_and_jacobian(qpos_from_tangent(x, quat), x[3:6])
-    num = _numeric(lambda v: kin.keypoints(qpos_from_tangent(v, quat)), x)
+    num = numeric_jacobian(lambda v: kin.keypoints(qpos_from_tangent(v, quat)), x)
     assert np.abs(jac - num).max() < 1e-6
 
 
@@ -56,7 +48,7 @@ def test_bone_offsets_are_linear_and_bone_jacobian_is_exact(kin):
         kin.set_bone_lengths(b)
         return kin.keypoints(q)
 
-    num = _numeric(kp_of, bones, eps=1e-4)
+    num = numeric_jacobian(kp_of, bones, eps=1e-4)
     kin.set_bone_lengths(bones)
     assert np.abs(jac - num).max() < 1e-7
 
@@ -73,7 +65,7 @@ def test_frame_residual_jacobian_matches_finite_differences(kin):
                            floor=floor, estimate_focal=True, focal_prior=(np.log(1500.0), 0.5))
     params = np.concatenate([x + 0.01, [np.log(1450.0)]])
     jac = problem.jacobian(params)
-    num = _numeric(lambda v: problem.residual(v)[:, 0], params)
+    num = numeric_jacobian(lambda v: problem.residual(v)[:, 0], params)
     assert np.abs(jac - num).max() < 1e-4 * max(1.0, np.abs(jac).max())
 
 
@@ -104,5 +96,5 @@ def test_pose_prior_loads_and_its_jacobian_matches_finite_differences(kin):
     # the prior rows are 0.7^2 times the chosen component's energy
     assert np.isclose(np.sum(parts["pose_prior"] ** 2), 0.49 * e.min())
     params = x + 0.01
-    num = _numeric(lambda v: problem.residual(v)[:, 0], params)
+    num = numeric_jacobian(lambda v: problem.residual(v)[:, 0], params)
     assert np.abs(problem.jacobian(params) - num).max() < 1e-4 * max(1.0, np.abs(num).max())

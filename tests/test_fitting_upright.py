@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from hdvr import dh
 from hdvr.camera import look_at, project
 from hdvr.fitting.kinematics import DancerKinematics, quat_from_rotvec, tangent_from_qpos
 from hdvr.fitting.presets import FitSettings
@@ -11,17 +12,9 @@ from hdvr.fitting.sequence import clip_vertical, fit_keypoints
 from hdvr.io.keypoints2d import Keypoints2D
 from hdvr.layouts import BODY25_NAMES
 from hdvr.skeleton import Skeleton
+from numeric import numeric_jacobian
 
 NECK, MID_HIP = BODY25_NAMES.index("neck"), BODY25_NAMES.index("mid_hip")
-
-
-def _numeric(f, x, eps=1e-6):
-    cols = []
-    for i in range(len(x)):
-        d = np.zeros_like(x)
-        d[i] = eps
-        cols.append((f(x + d) - f(x - d)) / (2 * eps))
-    return np.stack(cols, axis=1)
 
 
 @pytest.fixture(scope="module")
@@ -50,7 +43,7 @@ def test_upright_residual_is_the_weighted_sine_of_the_tilt_and_its_jacobian_is_e
     r = problem.residual_parts(x)["upright"]
     assert np.linalg.norm(r) == pytest.approx(64.0 * sine * np.linalg.norm(trunk) / 0.5, rel=1e-9)
     params = x + 0.01
-    num = _numeric(lambda v: problem.residual(v)[:, 0], params)
+    num = numeric_jacobian(lambda v: problem.residual(v)[:, 0], params)
     assert np.abs(problem.jacobian(params) - num).max() < 1e-4 * max(1.0, np.abs(num).max())
 
 
@@ -68,9 +61,6 @@ def _bow_clip(seconds_upright=2.0, seconds_bow=2.0, fps=30.0, bow_deg=60.0):
     """Camera-frame BODY_25 (T, 25, 3) of a dancer facing a camera 4 m away who sways upright, then bows towards
     it (trunk flexion ramping to ``bow_deg`` and held), and its 2D keypoints (focal 1400 px, 1920x1080)."""
     sk = Skeleton()
-    names = [j for j in sk.joint_names] if hasattr(sk, "joint_names") else None
-    from hdvr import dh
-
     flex = dh.JOINT_NAMES.index("lumbar_flex")
     shoulder = dh.JOINT_NAMES.index("left_shoulder_abduct")
     n_up, n_bow = int(seconds_upright * fps), int(seconds_bow * fps)
