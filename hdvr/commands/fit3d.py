@@ -26,6 +26,9 @@ def add_fit_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-bone-prior", action="store_true",
                    help="ablation: no per-dancer bone lengths (each window draws its own from mean +- std)")
     p.add_argument("--no-temporal", action="store_true", help="ablation: no temporal smoothness")
+    p.add_argument("--smooth-2d", choices=("auto", "on", "off"), default=None,
+                   help="temporal smoothing of the 2D tracks before the fit (default auto: when their estimated "
+                        "jitter exceeds 2.5 px)")
     p.add_argument("--no-pose-prior", action="store_true", help="ablation: no learned hinge-angle prior")
     p.add_argument("--no-upright", action="store_true",
                    help="ablation: no trunk tilt prior (for dancers who lean far towards or away from the camera "
@@ -48,7 +51,7 @@ def settings_from_args(args: argparse.Namespace, **extra):
     for key, attr in (("delta", "delta"), ("seeds", "seeds"), ("stride", "stride"), ("focal", "focal"),
                       ("height_m", "height"), ("joint_ranges", "joint_ranges"),
                       ("refine_sweeps", "refine_sweeps"), ("random_seed", "seed"), ("workers", "workers"),
-                      ("chunk_frames", "chunk_frames")):
+                      ("chunk_frames", "chunk_frames"), ("smooth_2d", "smooth_2d")):
         value = getattr(args, attr, None)
         if value is not None:
             overrides[key] = value
@@ -62,6 +65,7 @@ def settings_from_args(args: argparse.Namespace, **extra):
         overrides["bone_prior"] = False
     if getattr(args, "no_temporal", False):
         overrides["temporal"] = False
+        overrides.setdefault("smooth_2d", "off")
     if getattr(args, "no_pose_prior", False):
         overrides["pose_prior_weight"] = 0.0
     if getattr(args, "no_upright", False):

@@ -29,7 +29,7 @@ ABLATIONS: dict[str, str] = {
     "full": "HDVR defaults: hard joint limits, per-dancer bones, temporal smoothness",
     "no_joint_limits": "hinges unbounded",
     "no_bone_prior": "no per-dancer bone lengths (random per window, mean +- std)",
-    "no_temporal": "no temporal smoothness terms",
+    "no_temporal": "no temporal smoothness terms, no 2D track smoothing",
     "no_pose_prior": "no learned hinge-angle prior (hdvr.fitting.prior)",
     "no_upright": "no trunk tilt prior (residuals.UprightTerm)",
     "physics": "defaults + floor penetration and foot-skating residuals",
@@ -49,7 +49,7 @@ def settings_for(name: str, base: FitSettings) -> FitSettings:
     if name == "no_bone_prior":
         return replace(base, bone_prior=False, calibrate=False, seed_strategy="random")
     if name == "no_temporal":
-        return replace(base, temporal=False, refine_sweeps=0)
+        return replace(base, temporal=False, refine_sweeps=0, smooth_2d="off")
     if name == "no_pose_prior":
         return replace(base, pose_prior_weight=0.0)
     if name == "no_upright":

@@ -55,6 +55,9 @@ class FitSettings:
     robust_px: float | None = 20.0  # Cauchy scale of the reprojection loss; None = plain least squares
     sigma_px: float = 1.0
     min_confidence: float = 0.05
+    smooth_2d: str = "auto"  # 2D tracks smoothed in time: "auto" (jitter > smooth_2d_min_px), "on" or "off"
+    smooth_2d_min_px: float = 2.5  # estimated keypoint jitter (px) above which "auto" smooths
+    smooth_2d_window: int = 9  # frames of the Savitzky-Golay filter (local quadratic)
     face_weight: float = 0.05  # reprojection weight of nose, eyes, ears (limbs and trunk: 1)
     foot_weight: float = 0.1  # reprojection weight of toes and heels
     # -- constraints (ablation switches) ----------------------------------------------------------------------
@@ -91,6 +94,10 @@ class FitSettings:
             raise HDVRError(f"focal must be a positive number of pixels, got {self.focal}")
         if not (np.isfinite(self.height_m) and 0.5 < self.height_m < 2.6):
             raise HDVRError(f"height must be between 0.5 and 2.6 m, got {self.height_m}")
+        if self.smooth_2d not in ("auto", "on", "off"):
+            raise HDVRError(f"smooth_2d must be 'auto', 'on' or 'off', got {self.smooth_2d!r}")
+        if self.smooth_2d_window < 3 or self.smooth_2d_window % 2 == 0:
+            raise HDVRError(f"smooth_2d_window must be an odd number of frames >= 3, got {self.smooth_2d_window}")
         if self.seed_strategy not in ("mirror", "random"):
             raise HDVRError(f"seed strategy must be 'mirror' or 'random', got {self.seed_strategy!r}")
 
@@ -114,7 +121,8 @@ def paper_settings(**overrides) -> FitSettings:
     base = FitSettings(stride=1, calibrate=False, joint_ranges="paper", reinit_px=1e9, seed_strategy="random",
                        focal_per_window=True, face_weight=1.0, foot_weight=1.0, refine_sweeps=0, robust_px=None,
                        bone_prior=False, acceleration_weight_3d=0.0, velocity_weight_3d=20.0, velocity_weight_2d=0.05,
-                       hinge_velocity_weight=0.0, max_iter=10, pose_prior_weight=0.0, upright_weight=0.0)
+                       hinge_velocity_weight=0.0, max_iter=10, pose_prior_weight=0.0, upright_weight=0.0,
+                       smooth_2d="off")
     return replace(base, **overrides)
 
 

@@ -2,7 +2,8 @@
 
 Pipeline of :func:`fit_keypoints`:
 
-1. 2D keypoints to BODY_25; weights = detector confidence (0 below ``min_confidence``) x joint weight.
+1. 2D keypoints to BODY_25; weights = detector confidence (0 below ``min_confidence``) x joint weight; tracks
+   smoothed in time when the clip's estimated jitter exceeds ``smooth_2d_min_px`` (:mod:`hdvr.fitting.smoothing`).
 2. Intrinsics: given, or a field-of-view guess refined in step 3.
 3. Per-dancer calibration (``calibrate``): a quick one-seed track of the first ``CALIBRATION_SPAN`` frames with the
    table's mean bones scaled to the stature, then :func:`hdvr.fitting.calibration.calibrate_from_poses` on a
@@ -37,6 +38,7 @@ from hdvr.fitting.kinematics import DancerKinematics
 from hdvr.fitting.limits import apply_ranges
 from hdvr.fitting.presets import FitSettings, default_joint_weights
 from hdvr.fitting.residuals import FOOT_KEYPOINTS, FloorTerms
+from hdvr.fitting.smoothing import adaptive_smooth, estimate_noise_px, smooth_tracks
 from hdvr.fitting.window import Track, WindowFitter
 from hdvr.io.keypoints2d import Keypoints2D
 from hdvr.io.result3d import Result3D
@@ -59,6 +61,8 @@ class FitReport:
     focal_estimated: bool = False
     floor_contact_fraction: float = 0.0
     reinitialisations: int = 0
+    keypoint_noise_px: float = float("nan")  # estimated jitter of the 2D keypoints (hdvr.fitting.smoothing)
+    smoothed_2d: bool = False  # whether the 2D tracks were smoothed before the fit
 
     @property
     def frames_per_second(self) -> float:
@@ -198,7 +202,16 @@ def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skel
     settings = settings or FitSettings()
     report = FitReport()
     clock = time.perf_counter()
-    obs, weights = observation_weights(kp, settings)
+    raw_obs, weights = observation_weights(kp, settings)
+    obs = raw_obs
+    if settings.smooth_2d != "off":
+        valid = weights > 0
+        if settings.smooth_2d == "on":
+            obs = smooth_tracks(raw_obs, valid, settings.smooth_2d_window)
+            report.keypoint_noise_px, report.smoothed_2d = estimate_noise_px(raw_obs, valid), True
+        else:
+            obs, report.keypoint_noise_px, report.smoothed_2d = adaptive_smooth(
+                raw_obs, valid, settings.smooth_2d_min_px, settings.smooth_2d_window)
     n = len(obs)
     intr = initial_intrinsics(kp.image_size, settings.focal, settings.principal_point)
     estimate_focal = settings.focal is None
@@ -231,7 +244,7 @@ def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skel
 
     clock = time.perf_counter()
     track, report.reinitialisations = fit_chunked(kin, obs, weights, focal, pp, settings, estimate_focal, vertical)
-    fitter = WindowFitter(kin, obs, weights, focal, pp, settings, estimate_focal)
+    fitter = WindowFitter(kin, raw_obs, weights, focal, pp, settings, estimate_focal)  # errors vs the input
     floor = estimate_floor(track.keypoints)
     report.seconds["windows_and_refinement"] = time.perf_counter() - clock
 
@@ -246,6 +259,7 @@ def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skel
     report.floor_contact_fraction = floor.contact_fraction
     meta = {"settings": settings.to_dict(), "focal_estimated": estimate_focal,
             "floor_contact_fraction": floor.contact_fraction, "reinitialisations": report.reinitialisations,
+            "keypoint_noise_px": report.keypoint_noise_px, "smoothed_2d": report.smoothed_2d,
             "seconds": dict(report.seconds)}
     result = Result3D(keypoints3d=track.keypoints, qpos=qpos_world, focal=track.focal,
                       principal_point=np.tile(pp, (n, 1)), bone_lengths=kin.bone_lengths,
