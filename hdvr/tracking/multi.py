@@ -55,6 +55,8 @@ class MultiTrackerConfig:
     overlap_threshold: float = 0.05  # intersection / smaller core area above which two dancers overlap
     core_aspect: float = 0.3  # overlaps are tested on body cores at most this x the box height wide
     velocity_window: int = 30  # clear frames over which the stored velocity is fitted (least squares)
+    min_velocity_span: int = 1  # a clear track spanning fewer frames (one position, e.g. the first clear frame
+    # after a re-identification) gives no velocity: the stored one is kept, not replaced by zero
     max_speed: float = 0.06  # x box height per frame: the stored velocity is capped there (a dancer crossing the
     # frame runs at about 0.03)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
@@ -322,7 +324,8 @@ class MultiDancerTracker:
                 continue
             if not overlapping:
                 d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.body_center)]
-                d.stored_velocity = self._fit_velocity(d.clear_track, c.max_speed * d.box[3])
+                if d.clear_track[-1][0] - d.clear_track[0][0] >= c.min_velocity_span:
+                    d.stored_velocity = self._fit_velocity(d.clear_track, c.max_speed * d.box[3])
                 hist = colour_histogram(frame, d.box) if d.missed == 0 else None
                 if hist is not None:
                     d.stored_histogram = hist if d.stored_histogram is None else \
