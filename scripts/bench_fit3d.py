@@ -35,7 +35,7 @@ from hdvr.fitting.ablation import markdown_table, run_ablation  # noqa: E402
 from hdvr.fitting.presets import FitSettings  # noqa: E402
 from hdvr.fitting.sequence import fit_keypoints  # noqa: E402
 from hdvr.io.atomic import write_text_atomic  # noqa: E402
-from benchdoc import write_section  # noqa: E402
+from benchdoc import cpu_name, write_section  # noqa: E402
 from hdvr.io.bvh import load_mocap_body25  # noqa: E402
 from hdvr.io.keypoints2d import Keypoints2D  # noqa: E402
 from hdvr.layouts import BODY25_NAMES  # noqa: E402
@@ -221,7 +221,10 @@ def figures(clip: np.ndarray, name: str, seed: int) -> None:
 
 
 def machine() -> str:
-    return f"{platform.processor() or platform.machine()}, {os.cpu_count()} CPU cores, Python {platform.python_version()}"
+    """CPU, cores, Python and the load average when the results were written (the speed rows depend on it)."""
+    load = ", ".join(f"{v:.1f}" for v in os.getloadavg())
+    return (f"{cpu_name()}, {os.cpu_count()} CPU cores, Python {platform.python_version()}; load average "
+            f"(1, 5, 15 min) at the end of the run {load}")
 
 
 def summarise(rows):

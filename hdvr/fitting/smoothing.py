@@ -17,7 +17,6 @@ smoothing clean keypoints the same way costs 4-6 mm (fast motion is blurred), he
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 
 def estimate_noise_px(xy: np.ndarray, valid: np.ndarray) -> float:
@@ -35,6 +34,7 @@ def smooth_tracks(xy: np.ndarray, valid: np.ndarray, window: int = 9, order: int
     least ``window`` long (shorter runs and invalid frames are returned unchanged)."""
     if window % 2 == 0 or window <= order:
         raise ValueError(f"window must be odd and larger than the order, got window={window}, order={order}")
+    from scipy.signal import savgol_filter  # imported here: scipy.signal adds ~70 MB, clean clips never need it
     out = np.array(xy, dtype=np.float64, copy=True)
     for j in range(xy.shape[1]):
         v = np.concatenate([[False], valid[:, j], [False]]).astype(np.int8)
