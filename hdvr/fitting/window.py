@@ -261,7 +261,8 @@ class WindowFitter:
                     starts = self.seed_starts(lo, base, w_idx, focal, prev_kp, prev_q)
                 (qs, kps, fs, costs), bones = self.best_of(frames, starts, prev_kp, prev_q, focal)
                 err_px = self.reprojection_px(frames, kps, fs)
-                limit = max(self.s.reinit_px, self.s.reinit_factor * float(np.percentile(history, 25))) if history else np.inf
+                limit = (max(self.s.reinit_px, self.s.reinit_factor * float(np.percentile(history, 25)))
+                         if history else np.inf)
                 if base is not None and err_px > limit and self.s.seed_strategy == "mirror":
                     fresh, _ = initial_pose(self.kin, self.obs[lo], self.weights[lo], focal, self.pp,
                                             self.s.joint_limits, yaws=self.s.fresh_yaws,
