@@ -57,7 +57,7 @@ class FitSettings:
     min_confidence: float = 0.05
     smooth_2d: str = "auto"  # 2D tracks smoothed in time: "auto" (jitter > smooth_2d_min_px), "on" or "off"
     smooth_2d_min_px: float = 2.5  # estimated keypoint jitter (px) above which "auto" smooths
-    smooth_2d_window: int = 9  # frames of the Savitzky-Golay filter (local quadratic)
+    smooth_2d_window: int = 7  # frames of the Savitzky-Golay filter (local quadratic)
     face_weight: float = 0.05  # reprojection weight of nose, eyes, ears (limbs and trunk: 1)
     foot_weight: float = 0.1  # reprojection weight of toes and heels
     # -- constraints (ablation switches) ----------------------------------------------------------------------

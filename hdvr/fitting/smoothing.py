@@ -7,11 +7,12 @@ noise samples with weights 1, -2, 1, so ``sigma = 1.4826 MAD / sqrt(6)`` (MAD: m
 the frames where the dancer really accelerates). Motion itself adds to the estimate (0.5-2.1 px on clean
 projections of 14 salsa mocap clips at 1920x1080, 30 fps, the fast-spinning follower highest; 3.2-4.0 px with 3 px
 of added noise), so tracks are smoothed only when the estimate exceeds a threshold (default 2.5 px): a
-Savitzky-Golay filter (local quadratic, default 9 frames; scipy's ``savgol_filter``) over each run of frames
+Savitzky-Golay filter (local quadratic, default 7 frames; scipy's ``savgol_filter``) over each run of frames
 where the keypoint is seen.
 
-Measured (14 salsa clips of 10 s, focal given, 3 px noise): P-MPJPE 63.8 -> 59.4 mm, MPJPE 72.4 -> 66.1 mm;
-smoothing clean keypoints the same way costs 4-6 mm (fast motion is blurred), hence the threshold.
+Measured (14 salsa clips of 10 s, focal given, 3 px noise; P-MPJPE / MPJPE mm): none 63.8 / 72.4; window 5:
+63.0 / 71.4; 7 (default): 57.9 / 64.4; 9: 59.4 / 66.1; 13: 63.9 / 71.1. Smoothing clean keypoints (window 9) costs
+4-6 mm (fast motion is blurred), hence the threshold.
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ def estimate_noise_px(xy: np.ndarray, valid: np.ndarray) -> float:
     return float(1.4826 * np.median(np.abs(d2)) / np.sqrt(6.0))
 
 
-def smooth_tracks(xy: np.ndarray, valid: np.ndarray, window: int = 9, order: int = 2) -> np.ndarray:
+def smooth_tracks(xy: np.ndarray, valid: np.ndarray, window: int = 7, order: int = 2) -> np.ndarray:
     """Savitzky-Golay filtered copy of ``xy`` (T, J, 2) pixels, per keypoint over each run of valid frames at
     least ``window`` long (shorter runs and invalid frames are returned unchanged)."""
     if window % 2 == 0 or window <= order:
@@ -46,7 +47,7 @@ def smooth_tracks(xy: np.ndarray, valid: np.ndarray, window: int = 9, order: int
     return out
 
 
-def adaptive_smooth(xy: np.ndarray, valid: np.ndarray, threshold_px: float = 2.5, window: int = 9,
+def adaptive_smooth(xy: np.ndarray, valid: np.ndarray, threshold_px: float = 2.5, window: int = 7,
                     order: int = 2) -> tuple[np.ndarray, float, bool]:
     """(keypoints, estimated noise px, smoothed?): :func:`smooth_tracks` when the clip's estimated noise exceeds
     ``threshold_px``, else the keypoints unchanged."""
