@@ -260,7 +260,8 @@ def markdown(summary, speed, ablation, args, reference) -> str:
              f"{2 * len(args.takes)} clips of {args.seconds:.0f} s at 30 fps), each seen by a random virtual camera "
              "(1920x1080, focal 1000-2000 px, 3-8 m, azimuth 0-360 deg, elevation -5-30 deg). Medians over clips; "
              "errors in mm on EVAL_JOINTS, root-relative (MPJPE = Protocol 1, P-MPJPE = Protocol 2). "
-             f"Machine: {machine()}. Command: `python3 scripts/bench_fit3d.py {' '.join(sys.argv[1:])}`.", "",
+             f"Machine: {machine()}. Command: `python3 scripts/bench_fit3d.py {' '.join(sys.argv[1:])}`. "
+             "Medians of four clips move by a few mm with any change to the fit; docs/fitting.md has 14-clip means.", "",
              "| 2D input | focal | clips | MPJPE | P-MPJPE | N-MPJPE | MPJVE | accel err | reproj px | "
              "foot pen. p95 cm | skating cm/s | self-pen. % frames | limit viol. | bone CV % | jitter m/s^3 | "
              "frames/s |",
