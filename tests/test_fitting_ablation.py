@@ -1,5 +1,6 @@
 """`hdvr ablate` on a short real clip: a table with a row per setting, metrics against the ground truth."""
 
+import argparse
 import json
 import os
 import subprocess
@@ -8,6 +9,7 @@ import sys
 import numpy as np
 
 from hdvr.camera import orbit_camera, project
+from hdvr.commands.fit3d import add_fit_arguments, settings_from_args
 from hdvr.fitting.ablation import settings_for
 from hdvr.fitting.presets import FitSettings
 from hdvr.io.bvh import load_mocap_body25
@@ -44,3 +46,17 @@ def test_ablate_command_writes_markdown_and_json(shared_data, tmp_path):
     assert all(np.isfinite(r["mpjpe_mm"]) and r["frames_per_second"] > 0 for r in rows)
     table = (tmp_path / "abl" / "ablation.md").read_text()
     assert "| full |" in table and "p_mpjpe_mm" in table
+
+
+def test_fit_options_map_to_settings():
+    parser = argparse.ArgumentParser()
+    add_fit_arguments(parser)
+    s = settings_from_args(parser.parse_args(["--smooth-2d", "on", "--no-upright", "--no-pose-prior"]))
+    assert (s.smooth_2d, s.upright_weight, s.pose_prior_weight) == ("on", 0.0, 0.0)
+    s = settings_from_args(parser.parse_args(["--no-temporal"]))
+    assert not s.temporal and s.smooth_2d == "off"  # 2D smoothing is temporal too
+    s = settings_from_args(parser.parse_args(["--paper"]))
+    assert s.smooth_2d == "off" and s.upright_weight == 0.0 and s.pose_prior_weight == 0.0
+    s = settings_from_args(parser.parse_args([]))
+    assert s.smooth_2d == "auto" and s.upright_weight > 0 and s.pose_prior_weight > 0
+    assert settings_for("no_upright", s).upright_weight == 0 and settings_for("no_temporal", s).smooth_2d == "off"
