@@ -2,9 +2,9 @@
 
 Settings (:data:`ABLATIONS`): ``full`` (HDVR defaults), ``no_joint_limits``, ``no_bone_prior`` (no per-dancer bone
 lengths: each window draws its own from mean +- std), ``no_temporal``, ``no_pose_prior``, ``no_upright``,
-``physics`` (floor penetration and skating terms on), and ``paper`` (Algorithm 3* as published). Each row: MPJPE, P-MPJPE (mm, when ground truth is given),
-plausibility figures (:func:`hdvr.plausibility.summarize`) and frames per second, as medians over clips (metrics)
-or totals (speed).
+``physics`` (floor penetration and skating terms on), and ``paper`` (Algorithm 3* as published). Each row: MPJPE,
+P-MPJPE (mm, when ground truth is given), plausibility figures (:func:`hdvr.plausibility.summarize`) and frames
+per second, as medians over clips (metrics) or totals (speed).
 """
 
 from __future__ import annotations

@@ -96,6 +96,11 @@ class UprightTerm:
     weight: float  # per unit sine of the tilt
     trunk_m: float
     robust_sine: float | None = None  # Cauchy scale (sine of the tilt) beyond which the prior gives way
+    projector: np.ndarray = field(init=False)  # (3, 3) ``weight (I - v v^T) / trunk_m``, built once
+
+    def __post_init__(self) -> None:
+        v = np.asarray(self.vertical, dtype=np.float64)
+        self.projector = self.weight * (np.eye(3) - np.outer(v, v)) / self.trunk_m
 
     def scale(self, r: np.ndarray) -> float:
         """Factor turning the residual r (3,) into its robust version (1 without a robust scale)."""
@@ -104,12 +109,6 @@ class UprightTerm:
         c2 = (self.weight * self.robust_sine) ** 2
         s = float(r @ r)
         return float(np.sqrt(c2 * np.log1p(s / c2) / s)) if s > 1e-12 else 1.0
-
-    @property
-    def projector(self) -> np.ndarray:
-        """(3, 3) ``weight (I - v v^T) / trunk_m``."""
-        v = self.vertical
-        return self.weight * (np.eye(3) - np.outer(v, v)) / self.trunk_m
 
 
 _NECK, _MID_HIP = 1, 8  # BODY_25 indices

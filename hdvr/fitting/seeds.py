@@ -36,7 +36,8 @@ def root_rotation_facing(yaw_rad: float, vertical: np.ndarray | None = None) -> 
     camera)."""
     up = np.array([0.0, -1.0, 0.0]) if vertical is None else np.asarray(vertical, dtype=np.float64)
     up = up / np.linalg.norm(up)
-    towards = np.array([0.0, 0.0, -1.0]) - up * -up[2]  # towards the camera, perpendicular to up
+    towards = np.array([0.0, 0.0, -1.0])  # towards the camera ...
+    towards = towards - (towards @ up) * up  # ... made perpendicular to up
     towards /= np.linalg.norm(towards)
     side = np.cross(up, towards)
     forward = np.cos(yaw_rad) * towards + np.sin(yaw_rad) * side

@@ -38,7 +38,7 @@ from hdvr.fitting.kinematics import DancerKinematics
 from hdvr.fitting.limits import apply_ranges
 from hdvr.fitting.presets import FitSettings, default_joint_weights
 from hdvr.fitting.residuals import FOOT_KEYPOINTS, FloorTerms
-from hdvr.fitting.smoothing import adaptive_smooth, estimate_noise_px, smooth_tracks
+from hdvr.fitting.smoothing import adaptive_smooth
 from hdvr.fitting.window import Track, WindowFitter
 from hdvr.io.keypoints2d import Keypoints2D
 from hdvr.io.result3d import Result3D
@@ -203,15 +203,8 @@ def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skel
     report = FitReport()
     clock = time.perf_counter()
     raw_obs, weights = observation_weights(kp, settings)
-    obs = raw_obs
-    if settings.smooth_2d != "off":
-        valid = weights > 0
-        if settings.smooth_2d == "on":
-            obs = smooth_tracks(raw_obs, valid, settings.smooth_2d_window)
-            report.keypoint_noise_px, report.smoothed_2d = estimate_noise_px(raw_obs, valid), True
-        else:
-            obs, report.keypoint_noise_px, report.smoothed_2d = adaptive_smooth(
-                raw_obs, valid, settings.smooth_2d_min_px, settings.smooth_2d_window)
+    obs, report.keypoint_noise_px, report.smoothed_2d = adaptive_smooth(
+        raw_obs, weights > 0, settings.smooth_2d_min_px, settings.smooth_2d_window, mode=settings.smooth_2d)
     n = len(obs)
     intr = initial_intrinsics(kp.image_size, settings.focal, settings.principal_point)
     estimate_focal = settings.focal is None

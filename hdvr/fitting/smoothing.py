@@ -48,10 +48,11 @@ def smooth_tracks(xy: np.ndarray, valid: np.ndarray, window: int = 7, order: int
 
 
 def adaptive_smooth(xy: np.ndarray, valid: np.ndarray, threshold_px: float = 2.5, window: int = 7,
-                    order: int = 2) -> tuple[np.ndarray, float, bool]:
-    """(keypoints, estimated noise px, smoothed?): :func:`smooth_tracks` when the clip's estimated noise exceeds
-    ``threshold_px``, else the keypoints unchanged."""
+                    order: int = 2, mode: str = "auto") -> tuple[np.ndarray, float, bool]:
+    """(keypoints, estimated noise px, smoothed?). ``mode`` "auto": :func:`smooth_tracks` when the clip's
+    estimated noise exceeds ``threshold_px``, else the keypoints unchanged; "on": always smoothed; "off": never
+    (the noise is still estimated)."""
     noise = estimate_noise_px(xy, valid)
-    if not np.isfinite(noise) or noise <= threshold_px:
-        return xy, noise, False
-    return smooth_tracks(xy, valid, window, order), noise, True
+    if mode == "on" or (mode == "auto" and np.isfinite(noise) and noise > threshold_px):
+        return smooth_tracks(xy, valid, window, order), noise, True
+    return xy, noise, False

@@ -103,22 +103,20 @@ class WindowFitter:
         self.reinit_count = 0
         self.prior = shipped_prior() if settings.pose_prior_weight > 0 else None
         self.vertical = vertical  # (3,) the clip's up direction in the camera frame, if known
+        self._upright: tuple[bytes, UprightTerm] | None = None  # (bone lengths it was built for, term)
 
     def upright_term(self) -> UprightTerm | None:
-        """The trunk tilt prior of this clip's frames (None without a known vertical or with weight 0)."""
+        """The trunk tilt prior of this clip's frames (None without a known vertical or with weight 0), built
+        once per bone set: its trunk length is the rest pose's mid-hip to neck distance (metres)."""
         if self.vertical is None or self.s.upright_weight <= 0:
             return None
-        robust = np.sin(np.radians(self.s.upright_robust_deg)) if self.s.upright_robust_deg else None
-        return UprightTerm(self.vertical, self.s.upright_weight, self.trunk_m, robust)
-
-    @property
-    def trunk_m(self) -> float:
-        """Distance (metres) from mid-hip to neck in the rest pose with the current bone lengths."""
-        key = self.kin.bone_lengths.tobytes()
-        if getattr(self, "_trunk_key", None) != key:
+        bones = self.kin.bone_lengths.tobytes()
+        if self._upright is None or self._upright[0] != bones:
             kp = self.kin.keypoints(self.kin.skeleton.rest_qpos())
-            self._trunk_key, self._trunk = key, float(np.linalg.norm(kp[1] - kp[8]))
-        return self._trunk
+            robust = np.sin(np.radians(self.s.upright_robust_deg)) if self.s.upright_robust_deg else None
+            term = UprightTerm(self.vertical, self.s.upright_weight, float(np.linalg.norm(kp[1] - kp[8])), robust)
+            self._upright = (bones, term)
+        return self._upright[1]
 
     def reprojection_px(self, frames: range, keypoints: np.ndarray, focals: np.ndarray) -> float:
         """Mean distance (pixels) between projected and observed visible keypoints over ``frames``."""

@@ -118,7 +118,6 @@ class DancerTrack:
     offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
     recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
     size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
-    exit_box: tuple[float, float, float, float] | None = None  # box (px) where the dancer left the frame
 
     @property
     def body_center(self) -> np.ndarray:
@@ -382,7 +381,6 @@ class MultiDancerTracker:
     def _set_out(self, d: DancerTrack) -> None:
         """Dancer ``d`` has left the frame: no box until it is re-identified (:meth:`_reenter`)."""
         d.status, d.confidence, d.missed = OUT, 0.0, 0
-        d.exit_box = d.box
 
     def _reenter(self, frame, detections) -> None:
         """Dancers out of the frame who come back are re-identified on person detections (without a detector
