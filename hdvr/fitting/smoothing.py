@@ -10,7 +10,8 @@ of added noise), so tracks are smoothed only when the estimate exceeds a thresho
 Savitzky-Golay filter (local quadratic, default 7 frames; scipy's ``savgol_filter``) over each run of frames
 where the keypoint is seen.
 
-Measured (14 salsa clips of 10 s, focal given, 3 px noise; P-MPJPE / MPJPE mm): none 63.8 / 72.4; window 5:
+Measured (``python3 scripts/fit_clips.py --condition noise3px --settings smooth_2d_window=W``: 14 salsa clips of
+10 s, focal given, 3 px noise; P-MPJPE / MPJPE mm): none 63.8 / 72.4; window 5:
 63.0 / 71.4; 7 (default): 57.9 / 64.4; 9: 59.4 / 66.1; 13: 63.9 / 71.1. Smoothing clean keypoints (window 9) costs
 4-6 mm (fast motion is blurred), hence the threshold.
 """
