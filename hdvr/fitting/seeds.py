@@ -38,6 +38,8 @@ def root_rotation_facing(yaw_rad: float, vertical: np.ndarray | None = None) -> 
     up = up / np.linalg.norm(up)
     towards = np.array([0.0, 0.0, -1.0])  # towards the camera ...
     towards = towards - (towards @ up) * up  # ... made perpendicular to up
+    if np.linalg.norm(towards) < 1e-6:  # camera looking along the vertical: "towards" is image down instead
+        towards = np.array([0.0, 1.0, 0.0]) - up[1] * up
     towards /= np.linalg.norm(towards)
     side = np.cross(up, towards)
     forward = np.cos(yaw_rad) * towards + np.sin(yaw_rad) * side
