@@ -53,10 +53,12 @@ def test_fit_options_map_to_settings():
     add_fit_arguments(parser)
     s = settings_from_args(parser.parse_args(["--smooth-2d", "on", "--no-upright", "--no-pose-prior"]))
     assert (s.smooth_2d, s.upright_weight, s.pose_prior_weight) == ("on", 0.0, 0.0)
+    assert not settings_from_args(parser.parse_args(["--no-limb-depth"])).limb_depth
     s = settings_from_args(parser.parse_args(["--no-temporal"]))
     assert not s.temporal and s.smooth_2d == "off"  # 2D smoothing is temporal too
     s = settings_from_args(parser.parse_args(["--paper"]))
-    assert s.smooth_2d == "off" and s.upright_weight == 0.0 and s.pose_prior_weight == 0.0
+    assert s.smooth_2d == "off" and s.upright_weight == 0.0 and s.pose_prior_weight == 0.0 and not s.limb_depth
     s = settings_from_args(parser.parse_args([]))
     assert s.smooth_2d == "auto" and s.upright_weight > 0 and s.pose_prior_weight > 0
+    assert s.limb_depth and not settings_for("no_limb_depth", s).limb_depth
     assert settings_for("no_upright", s).upright_weight == 0 and settings_for("no_temporal", s).smooth_2d == "off"

@@ -20,7 +20,7 @@ def register(subparsers) -> None:
                    help="per clip, an NPZ with 'keypoints3d' (T, 25, 3) metres in the camera frame (BODY_25)")
     p.add_argument("--settings", nargs="*", default=None,
                    help="ablations to run (default: all but paper: full no_joint_limits no_bone_prior no_temporal "
-                        "no_pose_prior no_upright physics)")
+                        "no_pose_prior no_upright no_limb_depth physics)")
     p.add_argument("--out-dir", required=True, help="folder for ablation.md and ablation.json")
     add_fit_arguments(p)
     p.set_defaults(func=run)

@@ -33,6 +33,9 @@ def add_fit_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-upright", action="store_true",
                    help="ablation: no trunk tilt prior (for dancers who lean far towards or away from the camera "
                         "for long stretches, e.g. floor work)")
+    p.add_argument("--no-limb-depth", action="store_true",
+                   help="ablation: keep the arms' depth (which side of the image plane) as the windows chose it, "
+                        "instead of choosing it for the whole clip by the arms' steadiness in the trunk frame")
     p.add_argument("--joint-ranges", choices=("anatomical", "paper"), default=None,
                    help="hinge ranges: the paper's, or widened to normal human motion (default)")
     p.add_argument("--refine-sweeps", type=int, default=None, help="sequence refinement sweeps (default 2)")
@@ -70,6 +73,8 @@ def settings_from_args(args: argparse.Namespace, **extra):
         overrides["pose_prior_weight"] = 0.0
     if getattr(args, "no_upright", False):
         overrides["upright_weight"] = 0.0
+    if getattr(args, "no_limb_depth", False):
+        overrides["limb_depth"] = False
     overrides.update(extra)
     return paper_settings(**overrides) if getattr(args, "paper", False) else FitSettings(**overrides)
 

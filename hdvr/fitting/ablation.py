@@ -2,9 +2,9 @@
 
 Settings (:data:`ABLATIONS`): ``full`` (HDVR defaults), ``no_joint_limits``, ``no_bone_prior`` (no per-dancer bone
 lengths: each window draws its own from mean +- std), ``no_temporal``, ``no_pose_prior``, ``no_upright``,
-``physics`` (floor penetration and skating terms on), and ``paper`` (Algorithm 3* as published). Each row: MPJPE,
-P-MPJPE (mm, when ground truth is given), plausibility figures (:func:`hdvr.plausibility.summarize`) and frames
-per second, as medians over clips (metrics) or totals (speed).
+``no_limb_depth``, ``physics`` (floor penetration and skating terms on), and ``paper`` (Algorithm 3* as
+published). Each row: MPJPE, P-MPJPE (mm, when ground truth is given), plausibility figures
+(:func:`hdvr.plausibility.summarize`) and frames per second, as medians over clips (metrics) or totals (speed).
 """
 
 from __future__ import annotations
@@ -32,6 +32,7 @@ ABLATIONS: dict[str, str] = {
     "no_temporal": "no temporal smoothness terms, no 2D track smoothing",
     "no_pose_prior": "no learned hinge-angle prior (hdvr.fitting.prior)",
     "no_upright": "no trunk tilt prior (residuals.UprightTerm)",
+    "no_limb_depth": "arm depth as the windows chose it (no clip-level choice, hdvr.fitting.limb_depth)",
     "physics": "defaults + floor penetration and foot-skating residuals",
     "paper": "Algorithm 3* as published (window per frame, random seeds)",
 }
@@ -54,6 +55,8 @@ def settings_for(name: str, base: FitSettings) -> FitSettings:
         return replace(base, pose_prior_weight=0.0)
     if name == "no_upright":
         return replace(base, upright_weight=0.0)
+    if name == "no_limb_depth":
+        return replace(base, limb_depth=False)
     if name == "physics":
         return replace(base, physics=True)
     if name == "paper":

@@ -51,6 +51,7 @@ class FitSettings:
     fresh_iter: int = 10  # iterations per yaw and per mirror of a fresh start
     fresh_yaws: int = 8  # upright orientations a fresh start tries
     fresh_flips: bool = False  # a fresh start also tries every segment mirror (measured: no gain, 2x cost)
+    limb_depth: bool = True  # each arm's depth branch chosen for the whole clip (hdvr.fitting.limb_depth)
     refine_sweeps: int = 2  # sequence-level refinement sweeps (second-difference smoothness, no seams)
     robust_px: float | None = 20.0  # Cauchy scale of the reprojection loss; None = plain least squares
     sigma_px: float = 1.0
@@ -121,7 +122,7 @@ def paper_settings(**overrides) -> FitSettings:
     base = FitSettings(stride=1, calibrate=False, joint_ranges="paper", reinit_px=1e9, seed_strategy="random",
                        focal_per_window=True, face_weight=1.0, foot_weight=1.0, refine_sweeps=0, robust_px=None,
                        bone_prior=False, acceleration_weight_3d=0.0, velocity_weight_3d=20.0, velocity_weight_2d=0.05,
-                       hinge_velocity_weight=0.0, max_iter=10, pose_prior_weight=0.0, upright_weight=0.0,
+                       hinge_velocity_weight=0.0, max_iter=10, pose_prior_weight=0.0, upright_weight=0.0, limb_depth=False,
                        smooth_2d="off")
     return replace(base, **overrides)
 

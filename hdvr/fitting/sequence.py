@@ -35,9 +35,10 @@ from hdvr.fitting.calibration import bones_from_projections, calibrate_from_pose
 from hdvr.fitting.floor import Floor, camera_pose_in_world, estimate_floor, qpos_to_world
 from hdvr.fitting.intrinsics import initial_intrinsics
 from hdvr.fitting.kinematics import DancerKinematics
+from hdvr.fitting.limb_depth import BranchCosts, arm_targets
 from hdvr.fitting.limits import apply_ranges
 from hdvr.fitting.presets import FitSettings, default_joint_weights
-from hdvr.fitting.residuals import FOOT_KEYPOINTS, FloorTerms
+from hdvr.fitting.residuals import FOOT_KEYPOINTS, FloorTerms, LinearTerm
 from hdvr.fitting.smoothing import adaptive_smooth
 from hdvr.fitting.window import Track, WindowFitter
 from hdvr.io.keypoints2d import Keypoints2D
@@ -116,6 +117,23 @@ def refine(fitter: WindowFitter, track: Track, settings: FitSettings, floor: Flo
     return track
 
 
+def repair_limb_depth(fitter: WindowFitter, track: Track, settings: FitSettings,
+                      iterations: int = 6, target_weight: float = 300.0) -> int:
+    """Move each arm to the depth branch chosen for the whole clip (:mod:`hdvr.fitting.limb_depth`): every frame
+    whose branch changes is re-solved on its 2D keypoints plus 3D targets (``target_weight`` per metre) on the
+    moved elbow / wrist, from its fitted pose; the refinement that follows settles them with their neighbours.
+    Returns the number of frames re-solved."""
+    targets, moved = arm_targets(track.keypoints, BranchCosts())
+    frames = np.flatnonzero(moved.any(axis=1))
+    for t in frames:
+        problem = fitter.problem(t, None, track.focal[t], [], [])
+        problem.terms3d = [LinearTerm(1.0, -targets[t], target_weight, moved[t].astype(np.float64))]
+        q, _, cost = fitter.solve(problem, track.qpos[t], track.focal[t], iterations)
+        track.qpos[t] = q
+        track.keypoints[t] = fitter.kin.keypoints(q)
+    return len(frames)
+
+
 def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, focal: float, pp: np.ndarray,
                 settings: FitSettings, estimate_focal: bool, vertical: np.ndarray | None = None
                 ) -> tuple[Track, int]:
@@ -132,6 +150,8 @@ def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, foc
         fitter = WindowFitter(kin, obs[c.start:c.stop], weights[c.start:c.stop], focal, pp, chunk_settings,
                               estimate_focal, vertical)
         track = fitter.fit(tick=tick)
+        if settings.limb_depth:
+            repair_limb_depth(fitter, track, settings)
         if settings.refine_sweeps > 0:
             track = refine(fitter, track, settings, estimate_floor(track.keypoints), tick=tick)
         return track, fitter.reinit_count

@@ -1,0 +1,90 @@
+"""hdvr.fitting.limb_depth: ray-sphere branches of an arm and their clip-level choice by Viterbi."""
+
+import numpy as np
+import pytest
+
+from hdvr.fitting.limb_depth import ARMS, arm_targets, limb_branches, ray_sphere_depths, trunk_frames
+from hdvr.layouts import BODY25_NAMES
+
+IDX = {n: i for i, n in enumerate(BODY25_NAMES)}
+
+
+def spinning_dancer(frames: int = 60, deg_per_frame: float = 8.0) -> np.ndarray:
+    """(T, 25, 3) camera-frame keypoints (x right, y down, z forward) of a trunk turning about the vertical 4 m in
+    front of the camera, both arms held in one bent shape in the trunk frame (raised forward, elbows bent up)."""
+    kp = np.zeros((frames, 25, 3))
+    up = np.array([0.0, -1.0, 0.0])
+    for t in range(frames):
+        yaw = np.radians(deg_per_frame * t + 20.0)
+        forward = np.array([np.sin(yaw), 0.0, -np.cos(yaw)])  # yaw 0: facing the camera
+        left = np.cross(up, forward)
+        hip = np.array([0.1, 0.2, 4.0])
+        neck = hip + 0.5 * up
+        kp[t, :] = hip
+        kp[t, IDX["mid_hip"]], kp[t, IDX["neck"]] = hip, neck
+        for side, sign in (("left", 1.0), ("right", -1.0)):
+            shoulder = neck + sign * 0.2 * left
+            upper = -0.2 * up + 0.8 * forward + sign * 0.4 * left
+            lower = 0.7 * up + 0.6 * forward
+            elbow = shoulder + 0.30 * upper / np.linalg.norm(upper)
+            kp[t, IDX[f"{side}_shoulder"]] = shoulder
+            kp[t, IDX[f"{side}_elbow"]] = elbow
+            kp[t, IDX[f"{side}_wrist"]] = elbow + 0.25 * lower / np.linalg.norm(lower)
+    return kp
+
+
+def test_ray_sphere_depths():
+    centre = np.array([[0.0, 0.0, 5.0], [0.0, 3.0, 5.0]])
+    ray = np.array([[0.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    near, far, hit = ray_sphere_depths(centre, ray, 1.0)
+    assert near[0] == pytest.approx(4.0) and far[0] == pytest.approx(6.0) and hit[0]
+    assert not hit[1] and near[1] == pytest.approx(5.0)  # missed: closest approach
+
+
+def test_trunk_frames_are_rotations():
+    frames = trunk_frames(spinning_dancer(10))
+    assert np.allclose(np.einsum("tij,tkj->tik", frames, frames), np.eye(3), atol=1e-9)
+    assert np.allclose(np.linalg.det(frames), 1.0)
+
+
+def test_branches_share_the_image_and_the_bone_lengths():
+    kp = spinning_dancer(30)
+    root, middle, end = ARMS["right"]
+    cands, exists, fitted = limb_branches(kp, root, middle, end)
+    assert cands.shape == (4, 30, 2, 3) and exists[fitted, np.arange(30)].all()
+    assert exists.mean() > 0.5  # a mirrored elbow can leave the wrist's ray out of the forearm's reach
+    truth = np.stack([kp[:, middle], kp[:, end]], axis=1)
+    assert np.allclose(cands[fitted, np.arange(30)], truth, atol=1e-9)  # the given pose is one of the four
+    for b in range(4):
+        mid, end_pt = cands[b, :, 0], cands[b, :, 1]
+        assert np.allclose(np.linalg.norm(mid - kp[:, root], axis=1), 0.30)
+        ok = exists[b]
+        assert np.allclose(np.linalg.norm(end_pt - mid, axis=1)[ok], 0.25)
+        # same image: each candidate lies on the ray of the fitted joint
+        for got, ref in ((mid, kp[:, middle]), (end_pt, kp[:, end])):
+            assert np.allclose(got[:, :2] / got[:, 2:], ref[:, :2] / ref[:, 2:], atol=1e-12)
+
+
+def test_a_correct_steady_arm_is_left_alone():
+    kp = spinning_dancer()
+    out, moved = arm_targets(kp)
+    assert not moved.any() and np.array_equal(out, kp)
+
+
+def test_arms_mirrored_in_depth_through_a_spin_are_put_back():
+    """The fit chose the depth mirror of both arms on every frame (as well supported by the image); the trunk
+    spins, so the mirrored arms swing in the trunk frame while the true ones hold still: the Viterbi choice
+    returns the true branch wherever the two differ."""
+    truth = spinning_dancer()
+    fitted = truth.copy()
+    for root, middle, end in ARMS.values():
+        cands, _, idx = limb_branches(truth, root, middle, end)
+        mirror = cands[3 - idx, np.arange(len(truth))]  # both joints on their other intersection
+        fitted[:, middle], fitted[:, end] = mirror[:, 0], mirror[:, 1]
+    out, moved = arm_targets(fitted)
+    joints = [j for arm in ARMS.values() for j in arm[1:]]
+    differs = np.linalg.norm(fitted[:, joints] - truth[:, joints], axis=-1).max(axis=1) > 0.05
+    assert differs.mean() > 0.5
+    restored = np.linalg.norm(out[:, joints] - truth[:, joints], axis=-1).max(axis=1) < 1e-6
+    assert restored[differs].mean() > 0.9
+    assert moved[differs].any(axis=1).mean() > 0.9
