@@ -10,15 +10,16 @@ evidence from both sides in time:
 - **rigidity in the body frame** (pairwise, the deciding cue): a dancer holds arm shapes while the trunk turns;
   the true branch keeps the segments' directions in the trunk's frame steady, while a depth mirror of a held arm
   swings in the trunk's frame as soon as the trunk turns (the mirror is taken about the camera's view, not the
-  body). Cost: ``|d_t - d_{t-1}|^2 / sigma^2`` over the two segments' unit directions ``d`` in the trunk frame.
-- **the fit's own choice** (unary ``stay_cost`` for leaving it): the fit weighs the pose prior and joint limits,
+  body). Cost: ``|d_t - d_{t-1}| / sigma`` for the two segments' unit directions ``d`` in the trunk frame (stacked,
+  6 numbers). Not squared: a slow swing over many frames adds up as much as one jump of the same total size.
+- **the fit's own choice** (unary ``stay_cost`` per frame away from it): the fit weighs the pose prior and joint limits,
   which the branches' keypoints alone do not see;
 - **the elbow** (unary ``elbow_cost``): a branch that flexes the elbow beyond ``max_flexion_deg`` is implausible;
   a branch whose ray misses the sphere (no real intersection) costs ``missing_cost``.
 
 Measured on 14 salsa clips of 10 s (``scripts/fit_clips.py``; docs/fitting.md): the arm branches of the windowed
 fit are wrong on 10-14 % of frames per segment and choosing them with the mocap as oracle would take P-MPJPE from
-54 to 39 mm; this choice (applied to the keypoints alone) takes it to 47.7 mm clean and from 57.9 to 51.4 mm with
+54 to 39 mm; this choice (applied to the keypoints alone) takes it to 46.3 mm clean and from 57.9 to 51.0 mm with
 3 px noise.
 
 All positions are camera-frame metres (x right, y down, z forward; the camera centre at the origin).
@@ -43,8 +44,8 @@ class BranchCosts:
     """Weights of the branch choice (see module doc). ``sigma`` is a change of unit direction per frame
     (dimensionless, ~radians); the unary costs are in units of one ``sigma``-sized change."""
 
-    sigma: float = 0.1
-    stay_cost: float = 1.0
+    sigma: float = 0.05
+    stay_cost: float = 0.3
     elbow_cost: float = 3.0
     missing_cost: float = 10.0
     max_flexion_deg: float = 150.0
@@ -120,7 +121,7 @@ def choose_branches(keypoints: np.ndarray, root: int, middle: int, end: int, cos
     total = unary[:, 0].copy()
     back = np.zeros((n_branch, n), dtype=np.int64)
     for t in range(1, n):
-        pair = ((body[:, None, t] - body[None, :, t - 1]) ** 2).sum(-1) / costs.sigma ** 2  # (now, before)
+        pair = np.linalg.norm(body[:, None, t] - body[None, :, t - 1], axis=-1) / costs.sigma  # (now, before)
         pair[~np.isfinite(pair)] = costs.missing_cost
         step = total[None, :] + pair
         back[:, t] = np.argmin(step, axis=1)
