@@ -8,7 +8,8 @@ Pipeline of :func:`fit_keypoints`:
 3. Per-dancer calibration (``calibrate``): a quick one-seed track of the first ``CALIBRATION_SPAN`` frames with the
    table's mean bones scaled to the stature, then :func:`hdvr.fitting.calibration.calibrate_from_poses` on a
    subsample of it: one bone-length set (and focal) shared by the clip.
-4. The windowed fit of :mod:`hdvr.fitting.window` (Algorithm 3* or HDVR's schedule).
+4. The windowed fit of :mod:`hdvr.fitting.window` (Algorithm 3* or HDVR's schedule); then (``limb_depth``) each
+   arm's depth branch chosen for the whole clip (:mod:`hdvr.fitting.limb_depth`), changed frames re-solved.
 5. Refinement (``refine_sweeps``): Gauss-Seidel sweeps over the clip, each frame re-solved against its fixed
    neighbours with second differences on both sides (so windows leave no seams) and, with ``physics``, floor
    penetration and foot-skating terms for the floor estimated from the unrefined fit.
@@ -117,8 +118,8 @@ def refine(fitter: WindowFitter, track: Track, settings: FitSettings, floor: Flo
     return track
 
 
-def repair_limb_depth(fitter: WindowFitter, track: Track, settings: FitSettings,
-                      iterations: int = 6, target_weight: float = 300.0) -> int:
+def repair_limb_depth(fitter: WindowFitter, track: Track, iterations: int = 6, target_weight: float = 300.0
+                      ) -> int:
     """Move each arm to the depth branch chosen for the whole clip (:mod:`hdvr.fitting.limb_depth`): every frame
     whose branch changes is re-solved on its 2D keypoints plus 3D targets (``target_weight`` per metre) on the
     moved elbow / wrist, from its fitted pose; the refinement that follows settles them with their neighbours.
@@ -128,7 +129,7 @@ def repair_limb_depth(fitter: WindowFitter, track: Track, settings: FitSettings,
     for t in frames:
         problem = fitter.problem(t, None, track.focal[t], [], [])
         problem.terms3d = [LinearTerm(1.0, -targets[t], target_weight, moved[t].astype(np.float64))]
-        q, _, cost = fitter.solve(problem, track.qpos[t], track.focal[t], iterations)
+        q, _, _ = fitter.solve(problem, track.qpos[t], track.focal[t], iterations)
         track.qpos[t] = q
         track.keypoints[t] = fitter.kin.keypoints(q)
     return len(frames)
@@ -151,7 +152,7 @@ def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, foc
                               estimate_focal, vertical)
         track = fitter.fit(tick=tick)
         if settings.limb_depth:
-            repair_limb_depth(fitter, track, settings)
+            repair_limb_depth(fitter, track)
         if settings.refine_sweeps > 0:
             track = refine(fitter, track, settings, estimate_floor(track.keypoints), tick=tick)
         return track, fitter.reinit_count
