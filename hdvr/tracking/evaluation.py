@@ -114,3 +114,16 @@ def pck(predicted: np.ndarray, truth: np.ndarray, alpha: float = 0.2, joints=Non
         valid_pred &= predicted[..., 2] > 0
     correct = valid_pred & (np.where(valid_pred, dist, np.inf) <= alpha * ref[..., None])
     return float(correct[has_truth].mean())
+
+
+def visible_truth_keypoints(keypoints2d: np.ndarray, visibility: np.ndarray) -> np.ndarray:
+    """Ground truth for :func:`pck` from a synthetic clip's ``gt.npz`` arrays ``keypoints2d`` (N, T, 25, 2) px and
+    ``visibility`` (N, T, 25) (2 visible, 1 hidden by another dancer, 0 outside the image): (T, N, 25, 3) x_px,
+    y_px, 1 where visible and 0 elsewhere, so that only visible keypoints are scored."""
+    keypoints2d = np.asarray(keypoints2d, float)
+    visibility = np.asarray(visibility)
+    if keypoints2d.ndim != 4 or keypoints2d.shape[-1] != 2 or visibility.shape != keypoints2d.shape[:-1]:
+        raise HDVRError(f"expected keypoints2d (N, T, J, 2) and visibility (N, T, J); got {keypoints2d.shape} and "
+                        f"{visibility.shape}")
+    visible = (visibility == 2).astype(float)[..., None]
+    return np.transpose(np.concatenate([keypoints2d, visible], axis=-1), (1, 0, 2, 3))
