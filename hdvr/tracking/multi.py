@@ -73,6 +73,9 @@ class MultiTrackerConfig:
     relocate_min_similarity: float = 0.3  # a candidate must correlate at least this well to be taken
     reid_similarity: float = 0.6  # before the predicted end of an overlap, a clear candidate needs this much
     reid_margin: float = 0.2  # ... and this much more than with any other occluded dancer's memory
+    reid_beside_held: bool = True  # a detection that overlaps tracked dancers may re-identify an occluded dancer
+    # when each of them holds a detection of its own (:meth:`_reidentify`)
+    reid_held_overlap: float = 0.5  # ... whose body core this one overlaps less than this (intersection / smaller)
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
@@ -619,33 +622,49 @@ class MultiDancerTracker:
     def _claimed(self, detections) -> set[int]:
         """Indices of the detections that tracked dancers take in one assignment (Hungarian on
         :meth:`_fit_score`, at least ``group_min_score``)."""
-        tracked = [o.box for o in self.dancers if o.status == TRACKED]
+        return set(self._claims(detections).values())
+
+    def _claims(self, detections) -> dict[int, int]:
+        """Tracked dancer id -> index of the detection it takes in one assignment (Hungarian on
+        :meth:`_fit_score`, at least ``group_min_score``)."""
+        tracked = [o for o in self.dancers if o.status == TRACKED]
         if not tracked or not detections:
-            return set()
-        score = np.array([[self._fit_score(b, det) for det in detections] for b in tracked])
-        return {int(k) for i, k in zip(*linear_sum_assignment(-score)) if score[i, k] >= self.config.group_min_score}
+            return {}
+        score = np.array([[self._fit_score(o.box, det) for det in detections] for o in tracked])
+        return {tracked[i].dancer_id: int(k) for i, k in zip(*linear_sum_assignment(-score))
+                if score[i, k] >= self.config.group_min_score}
 
     def _reidentify(self, frame, occluded: list[DancerTrack], own_boxes: list, detections) -> None:
         """Occluded dancers that show clearly again take their place before the predicted end of the overlap.
 
         Candidates of each occluded dancer are its own tracker's box and the detections near its predicted or its
         last clear position (within ``2 min_search_radius`` box heights) that no tracked dancer takes
-        (:meth:`_claimed`), if clear of every tracked dancer's body core. (Also taking detections that overlap a
-        tracked dancer fixed a tango couple but cost IDF1 0.15-0.2 on procedural 4-dancer clips with the
-        detector.) Matched by :meth:`_histogram_matches` against the other occluded dancers' memories."""
+        (:meth:`_claims`), if clear of every tracked dancer's body core. A detection may also overlap tracked
+        dancers that each hold a detection of their own in that assignment, if its body core overlaps the
+        core of theirs less than ``reid_held_overlap`` (``reid_beside_held``): then it is a second person beside
+        them, not them nor a box around them (a dancer in front of a partner's spread arm; taking any detection
+        that overlaps a tracked dancer cost IDF1 0.15-0.2 on procedural 4-dancer clips with the detector).
+        Matched by :meth:`_histogram_matches` against the other occluded dancers' memories."""
         c = self.config
         if not occluded:
             return
-        tracked = [o.box for o in self.dancers if o.status == TRACKED]
+        tracked = [o for o in self.dancers if o.status == TRACKED]
         dets = [tuple(float(v) for v in det) for det in detections or []]
-        claimed = self._claimed(dets)
-        free = [det for k, det in enumerate(dets) if k not in claimed]
+        claims = self._claims(dets)
+        free = [det for k, det in enumerate(dets) if k not in claims.values()]
+
+        def clear(box, is_detection: bool) -> bool:
+            # clear of every tracked dancer's body core, or (a detection) of every one that holds a detection of
+            # its own that this one does not mostly overlap (a box around both, or a part of it)
+            return all(self._bodies_overlap(box, o.box) <= c.overlap_threshold
+                       or (is_detection and c.reid_beside_held and o.dancer_id in claims
+                           and self._bodies_overlap(box, dets[claims[o.dancer_id]]) < c.reid_held_overlap) for o in tracked)
+
         candidates = []
         for d, own in zip(occluded, own_boxes):
             radius = c.min_search_radius * d.box[3] * 2
             near = [det for det in free if min(np.linalg.norm(_centre(det) - d.center),
                                                np.linalg.norm(_centre(det) - _centre(d.stored_box))) <= radius]
-            candidates.append((d, [box for box in near + [own]
-                                   if all(self._bodies_overlap(box, o) <= c.overlap_threshold for o in tracked)]))
+            candidates.append((d, [box for box in near if clear(box, True)] + ([own] if clear(own, False) else [])))
         for d, box, score in self._histogram_matches(frame, candidates, occluded):
             self._take(d, box, score)
