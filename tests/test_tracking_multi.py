@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from hdvr.tracking.evaluation import evaluate_tracking
+from hdvr.tracking.evaluation import evaluate_tracking, iou_matrix
 from hdvr.tracking.multi import OCCLUDED, TRACKED, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.testclips import FigureSpec, default_crossing_specs, render_clip
 from hdvr.video import VideoReader
@@ -259,3 +259,22 @@ def test_occluded_dancer_reidentified_beside_a_dancer_holding_its_detection(tmp_
     assert reidentified([front, back])
     assert not reidentified([both, back])
     assert not reidentified([front, back], MultiTrackerConfig(reid_beside_held=False))
+
+
+def test_dancer_reenters_at_the_edge_without_detector(tmp_path):
+    """Without detections a dancer who left on the right is re-identified on the strip at that edge when it comes
+    back (its histogram matches the memory clearly better than the empty edge did), and followed in."""
+    from hdvr.tracking.multi import OUT
+
+    truth = _exit_clip(tmp_path / "clip.mp4")
+    boxes, status = _run(tmp_path / "clip.mp4", truth)
+    gone = ~np.isfinite(truth.boxes[:, 1, 0])
+    back = int(np.flatnonzero(gone)[-1]) + 1  # first frame with a part of it in the frame again
+    out = np.array([s[1] == OUT for s in status])
+    assert out[gone].all() and not out[:50].any(), np.flatnonzero(out)
+    first_seen = back + int(np.argmin(out[back:]))
+    assert not out[first_seen:].any() and first_seen - back <= 15, (back, first_seen)
+    after = range(first_seen, first_seen + 20)  # the box follows it in
+    assert np.mean([iou_matrix(truth.boxes[t, 1:], boxes[t, 1:])[0, 0] for t in after]) > 0.6
+    scores = evaluate_tracking(truth.boxes, boxes)
+    assert scores.id_switches == 0 and scores.idf1 > 0.9, scores
