@@ -2,7 +2,9 @@ import numpy as np
 import pytest
 
 from hdvr.errors import HDVRError
-from hdvr.tracking.evaluation import evaluate_tracking, pck, torso_diameter, visible_truth_keypoints
+from hdvr.layouts import BODY25_NAMES, COCO17_NAMES
+from hdvr.tracking.evaluation import (body25_joints_of, evaluate_tracking, pck, torso_diameter,
+                                     visible_truth_keypoints)
 
 
 def _gt(frames=20):
@@ -78,3 +80,18 @@ def test_pck_scores_visible_synthetic_keypoints_only():
     assert pck(pred[:, 0], truth[:, 0]) == pytest.approx(23 / 24)
     with pytest.raises(HDVRError):
         visible_truth_keypoints(kp, vis[0])
+
+
+def test_pck_on_the_joints_a_coco_detector_gives():
+    joints = body25_joints_of(COCO17_NAMES)
+    names = {BODY25_NAMES[j] for j in joints}
+    assert len(joints) == 19 and {"neck", "mid_hip", "left_ankle", "nose"} <= names
+    assert not names & {"left_big_toe", "right_heel"}
+    assert len(body25_joints_of(BODY25_NAMES)) == 25
+    rng = np.random.default_rng(2)
+    truth = rng.uniform(100, 300, (4, 25, 3))
+    truth[..., 2] = 1
+    pred = truth.copy()
+    pred[:, [j for j in range(25) if j not in joints], 2] = 0  # feet missing, as from a COCO-17 detector
+    assert pck(pred, truth) == pytest.approx(19 / 25)
+    assert pck(pred, truth, joints=joints) == 1.0

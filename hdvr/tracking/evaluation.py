@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hdvr.errors import HDVRError
-from hdvr.layouts import BODY25_NAMES
+from hdvr.layouts import BODY25, BODY25_NAMES, convert, guess_layout
 
 
 @dataclass(frozen=True)
@@ -127,3 +127,12 @@ def visible_truth_keypoints(keypoints2d: np.ndarray, visibility: np.ndarray) -> 
                         f"{visibility.shape}")
     visible = (visibility == 2).astype(float)[..., None]
     return np.transpose(np.concatenate([keypoints2d, visible], axis=-1), (1, 0, 2, 3))
+
+
+def body25_joints_of(joint_names) -> np.ndarray:
+    """Indices of the BODY_25 joints that keypoints in the layout named by ``joint_names`` (e.g. a COCO-17
+    detector's) give after conversion to BODY_25 (:func:`hdvr.layouts.convert`): PCK's ``joints`` for scoring a
+    detector only on what it can output (COCO-17: 19 joints, no feet)."""
+    layout = guess_layout(tuple(joint_names))
+    ones = np.ones((len(joint_names), 3))
+    return np.flatnonzero(convert(ones, layout, BODY25, has_confidence=True)[:, 2] > 0)

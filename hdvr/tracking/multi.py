@@ -440,10 +440,11 @@ class MultiDancerTracker:
 
     def _reenter(self, frame, detections) -> None:
         """Dancers out of the frame who come back are re-identified on person detections (without one, at the
-        edge they left by: :meth:`_reenter_at_edge`). Candidates: the detections that no tracked dancer takes (:meth:`_claimed`; a
-        dancer comes back at the edge, or anywhere after a tracker pushed off the frame) and whose height is
-        within ``max_height_change`` of the dancer's last clear box, matched by :meth:`_histogram_matches` against
-        every dancer not seen now (occluded or out). The dancer's tracker restarts there, with no velocity."""
+        edge they left by: :meth:`_reenter_at_edge`). Candidates: the detections that no tracked dancer takes
+        (:meth:`_claimed`; a dancer comes back at the edge, or anywhere after a tracker pushed off the frame) and
+        whose height is within ``max_height_change`` of the dancer's last clear box, matched by
+        :meth:`_histogram_matches` against every dancer not seen now (occluded or out). The dancer's tracker
+        restarts there, with no velocity."""
         c = self.config
         out = [d for d in self.dancers if d.status == OUT]
         if not out or not detections:
@@ -710,7 +711,8 @@ class MultiDancerTracker:
             # its own that this one does not mostly overlap (a box around both, or a part of it)
             return all(self._bodies_overlap(box, o.box) <= c.overlap_threshold
                        or (is_detection and c.reid_beside_held and o.dancer_id in claims
-                           and self._bodies_overlap(box, dets[claims[o.dancer_id]]) < c.reid_held_overlap) for o in tracked)
+                           and self._bodies_overlap(box, dets[claims[o.dancer_id]]) < c.reid_held_overlap)
+                       for o in tracked)
 
         candidates = []
         for d, own in zip(occluded, own_boxes):
