@@ -23,9 +23,10 @@ markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown 
 6. Synthetic dancers: small multi-dancer clips rendered by ``hdvr.synth`` (couple and group genres, 2-4
    dancers) in a temporary folder, tracked from their ground-truth first boxes and scored against their MOT
    ground truth; per clip also the fraction of detector frames in which each dancer got a pose, at two detector
-   confidence thresholds.
+   confidence thresholds, and PCK@0.2 of each dancer's keypoints against its visible ground-truth keypoints.
 
 Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--seeds 6] [--seed-start 0]
+                                      [--synth-seeds 7,11,23] [--synth-thresholds 0.3,0.15]
                                       [--sections speed,real,memory,detector,identity,synth]
                                       [--markdown docs/benchmarks.md]
 """
@@ -52,7 +53,8 @@ import numpy as np  # noqa: E402
 
 from hdvr.pose2d.models import default_pose_model  # noqa: E402
 from hdvr.pose2d.onnx_pose import OnnxPoseDetector  # noqa: E402
-from hdvr.tracking.evaluation import evaluate_tracking, pck  # noqa: E402
+from hdvr.layouts import COCO17_NAMES  # noqa: E402
+from hdvr.tracking.evaluation import body25_joints_of, evaluate_tracking, pck, visible_truth_keypoints  # noqa: E402
 from hdvr.tracking.pipeline import find_dancers, track_video  # noqa: E402
 from hdvr.tracking.testclips import default_crossing_specs, render_clip  # noqa: E402
 from hdvr.video import VideoReader, VideoWriter  # noqa: E402
@@ -94,6 +96,10 @@ def main() -> int:
     parser.add_argument("--seeds", type=int, default=6, help="procedural clips per dancer count (identity)")
     parser.add_argument("--seed-start", type=int, default=0, help="first seed of the identity clips (seeds 0-5 "
                         "were used while tuning; 6 and up are held out)")
+    parser.add_argument("--synth-seeds", default="7", help="comma-separated seeds of the synthetic clips (synth; "
+                        "7 was used while tuning, 11 and 23 are held out)")
+    parser.add_argument("--synth-thresholds", default="0.3,0.15",
+                        help="comma-separated detector confidence thresholds for the synthetic clips (synth)")
     args = parser.parse_args()
     if args.quick:
         args.repeats, args.frames = 1, 150
@@ -125,7 +131,8 @@ def main() -> int:
     if "identity" in sections:
         lines += identity_section(args, model, tmp)
     if "synth" in sections:
-        lines += synth_section(model, tmp)
+        lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
+                               thresholds=[float(v) for v in args.synth_thresholds.split(",")])
     load_after = os.getloadavg()
     lines.append(f"Load average at the end: {load_after[0]:.1f}.")
     text = "\n".join(lines) + "\n"
@@ -286,36 +293,53 @@ def identity_section(args, model, tmp, frames: int = 150) -> list[str]:
 SYNTH_CLIPS = (("tango", 2), ("swing", 2), ("hip_hop", 3), ("flamenco", 3), ("hip_hop", 4), ("ballet", 4))
 
 
-def synth_section(model, tmp, seconds: float = 4.0, seed: int = 7, thresholds=(0.3, 0.15)) -> list[str]:
-    """Tracking on rendered hdvr.synth clips against their MOT ground truth (boxes from gt.npz)."""
+def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3, 0.15)) -> list[str]:
+    """Tracking on rendered hdvr.synth clips against their MOT ground truth (boxes from gt.npz) and PCK@0.2 of the
+    per-dancer keypoints against their visible ground-truth keypoints."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
     from hdvr.tracking.pipeline import DancerStart
 
-    root = tmp / "synth"
-    lines = [f"### Synthetic dancers (hdvr.synth, 640x480, {seconds:g} s at 30 frames/s, seed {seed})", "",
+    lines = [f"### Synthetic dancers (hdvr.synth, 640x480, {seconds:g} s at 30 frames/s, seed "
+             f"{', '.join(str(s) for s in seeds)})", "",
              "Tracked from the ground-truth box where each dancer first appears, detector YOLO11n-pose at 480 px on "
              "every 3rd frame; scored against the clip's amodal ground-truth boxes (trackeval). \"pose\": fraction "
-             "of detector frames in which each dancer got a pose.", "",
-             "| clip | dancers | detector threshold | IDF1 | MOTA | HOTA | ID switches | pose per dancer |",
-             "|---|---|---|---|---|---|---|---|"]
+             "of detector frames in which each dancer got a pose. \"PCK@0.2\": per dancer, the fraction of its "
+             "visible ground-truth keypoints (not hidden by another dancer, inside the image) that its keypoint file "
+             "(`dancer_<i>.npz`: detector frames and the frames interpolated in between) has within 0.2 torso "
+             "diameters; a keypoint the file lacks counts as wrong. Scored on the 19 BODY_25 joints a COCO-17 "
+             "detector (YOLO11n-pose) gives; \"25\": on all BODY_25 joints (the 6 foot points never found count "
+             "as wrong); \"mean\" pools the clip's dancers.", "",
+             "| seed | clip | dancers | detector threshold | IDF1 | MOTA | HOTA | ID switches | pose per dancer | "
+             "PCK@0.2 per dancer | PCK@0.2 mean | PCK@0.2 mean, 25 |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    joints = body25_joints_of(COCO17_NAMES)
     detectors = {thr: OnnxPoseDetector(model, input_size=480, threads=2, score_threshold=thr) for thr in thresholds}
-    for index, (genre, n) in enumerate(SYNTH_CLIPS):
-        spec = ClipSpec(index, seed, genre, n, seconds)
-        make_clip(root, spec, render=True)
-        clip = root / spec.name
-        gt = np.transpose(np.load(clip / "gt.npz")["boxes"], (1, 0, 2)).astype(float)  # (T, N, 4)
-        first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(n)]
-        order = sorted(range(n), key=lambda i: first[i])  # track_video numbers dancers by start
-        starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
-        for thr, detector in detectors.items():
-            run = track_video(clip / "video.mp4", tmp / "synth-out", detector=detector, starts=starts,
-                              detect_every=3, overlay=False, write=False)
-            tracked = run.boxes[:, np.argsort(order)]
-            s = evaluate_tracking(gt, tracked)
-            posed = (run.keypoints[run.detected][..., 2] > 0).any(axis=-1).mean(axis=0)[np.argsort(order)]
-            lines.append(f"| {spec.name} {genre} | {n} | {thr:g} | {s.idf1:.3f} | {s.mota:.3f} | {s.hota:.3f} | "
-                         f"{s.id_switches} | {' / '.join(f'{p:.2f}' for p in posed)} |")
-            print(lines[-1], file=sys.stderr)
+    for seed in seeds:
+        root = tmp / f"synth-{seed}"
+        for index, (genre, n) in enumerate(SYNTH_CLIPS):
+            spec = ClipSpec(index, seed, genre, n, seconds)
+            make_clip(root, spec, render=True)
+            clip = root / spec.name
+            with np.load(clip / "gt.npz") as gt_file:
+                gt = np.transpose(gt_file["boxes"], (1, 0, 2)).astype(float)  # (T, N, 4)
+                truth = visible_truth_keypoints(gt_file["keypoints2d"], gt_file["visibility"])
+            first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(n)]
+            order = sorted(range(n), key=lambda i: first[i])  # track_video numbers dancers by start
+            starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
+            for thr, detector in detectors.items():
+                run = track_video(clip / "video.mp4", tmp / "synth-out", detector=detector, starts=starts,
+                                  detect_every=3, overlay=False, write=False)
+                tracked = run.boxes[:, np.argsort(order)]
+                keypoints = run.keypoints[:, np.argsort(order)]
+                s = evaluate_tracking(gt, tracked)
+                posed = (run.keypoints[run.detected][..., 2] > 0).any(axis=-1).mean(axis=0)[np.argsort(order)]
+                pcks = [pck(keypoints[:, i], truth[:, i], joints=joints) for i in range(n)]
+                pooled = pck(keypoints.reshape(-1, 25, 3), truth.reshape(-1, 25, 3), joints=joints)
+                pooled25 = pck(keypoints.reshape(-1, 25, 3), truth.reshape(-1, 25, 3))
+                lines.append(f"| {seed} | {spec.name} {genre} | {n} | {thr:g} | {s.idf1:.3f} | {s.mota:.3f} | "
+                             f"{s.hota:.3f} | {s.id_switches} | {' / '.join(f'{p:.2f}' for p in posed)} | "
+                             f"{' / '.join(f'{p:.2f}' for p in pcks)} | {pooled:.3f} | {pooled25:.3f} |")
+                print(lines[-1], file=sys.stderr)
     lines.append("")
     return lines
 

@@ -2,7 +2,9 @@ import numpy as np
 import pytest
 
 from hdvr.errors import HDVRError
-from hdvr.tracking.evaluation import evaluate_tracking, pck, torso_diameter
+from hdvr.layouts import BODY25_NAMES, COCO17_NAMES
+from hdvr.tracking.evaluation import (body25_joints_of, evaluate_tracking, pck, torso_diameter,
+                                     visible_truth_keypoints)
 
 
 def _gt(frames=20):
@@ -57,3 +59,39 @@ def test_pck():
     truth2 = truth.copy()
     truth2[:, 1, :] = np.nan  # a joint the truth lacks does not count
     assert pck(pred, truth2) == pytest.approx(23 / 24)
+
+
+def test_pck_scores_visible_synthetic_keypoints_only():
+    """gt.npz layout (N, T, 25, 2) + visibility: hidden (1) and outside (0) keypoints do not count."""
+    rng = np.random.default_rng(1)
+    kp = rng.uniform(100, 300, (2, 6, 25, 2))
+    vis = np.full((2, 6, 25), 2, np.int8)
+    vis[0, :, 4] = 1  # dancer 0's right wrist hidden by dancer 1
+    vis[1, :, 7] = 0  # dancer 1's left wrist outside the image
+    truth = visible_truth_keypoints(kp, vis)
+    assert truth.shape == (6, 2, 25, 3)
+    pred = truth.copy()
+    pred[..., 2] = 1
+    pred[:, 0, 4, :2] += 1000  # wrong where hidden: not scored
+    pred[:, 1, 7, :2] += 1000
+    assert pck(pred[:, 0], truth[:, 0]) == 1.0
+    assert pck(pred[:, 1], truth[:, 1]) == 1.0
+    pred[:, 0, 3, :2] += 1000  # wrong where visible: scored
+    assert pck(pred[:, 0], truth[:, 0]) == pytest.approx(23 / 24)
+    with pytest.raises(HDVRError):
+        visible_truth_keypoints(kp, vis[0])
+
+
+def test_pck_on_the_joints_a_coco_detector_gives():
+    joints = body25_joints_of(COCO17_NAMES)
+    names = {BODY25_NAMES[j] for j in joints}
+    assert len(joints) == 19 and {"neck", "mid_hip", "left_ankle", "nose"} <= names
+    assert not names & {"left_big_toe", "right_heel"}
+    assert len(body25_joints_of(BODY25_NAMES)) == 25
+    rng = np.random.default_rng(2)
+    truth = rng.uniform(100, 300, (4, 25, 3))
+    truth[..., 2] = 1
+    pred = truth.copy()
+    pred[:, [j for j in range(25) if j not in joints], 2] = 0  # feet missing, as from a COCO-17 detector
+    assert pck(pred, truth) == pytest.approx(19 / 25)
+    assert pck(pred, truth, joints=joints) == 1.0

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from hdvr.tracking.evaluation import evaluate_tracking
-from hdvr.tracking.multi import OCCLUDED, MultiDancerTracker
+from hdvr.tracking.evaluation import evaluate_tracking, iou_matrix
+from hdvr.tracking.multi import OCCLUDED, TRACKED, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.testclips import FigureSpec, default_crossing_specs, render_clip
 from hdvr.video import VideoReader
 
@@ -231,3 +231,50 @@ def test_overlapping_dancer_box_adapts_to_its_detection(tmp_path):
     tracker2._adapt_in_group(frames[1], [tracker2.dancers[0]], [wide])  # fits both dancers alike: ambiguous
     assert tracker2.dancers[0].box == before
     assert truth.boxes.shape == (2, 2, 4)
+
+
+def test_occluded_dancer_reidentified_beside_a_dancer_holding_its_detection(tmp_path):
+    """A detection that overlaps a tracked dancer's body core re-identifies an occluded dancer when that tracked
+    dancer holds a detection of its own beside it; a box around both does not, nor does the option off."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=67, specs=default_crossing_specs(num_figures=2, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    front, back = (tuple(float(v) for v in b) for b in truth.boxes[66])  # cores overlap by 0.3 here
+    both = (min(front[0], back[0]), min(front[1], back[1]),
+            max(front[0] + front[2], back[0] + back[2]) - min(front[0], back[0]),
+            max(front[1] + front[3], back[1] + back[3]) - min(front[1], back[1]))
+
+    def reidentified(detections, config=None) -> bool:
+        tracker = MultiDancerTracker(frames[0], truth.boxes[0], config)
+        for t in range(1, 66):
+            tracker.step(frames[t], [tuple(b) for b in truth.boxes[t]])
+        d0, d1 = tracker.dancers
+        assert (d0.status, d1.status) == (TRACKED, TRACKED)
+        assert tracker._bodies_overlap(front, d1.box) > tracker.config.overlap_threshold
+        d0.status = OCCLUDED  # the front dancer lost, e.g. after a sudden stop
+        tracker._reidentify(frames[66], [d0], [d1.box], detections)
+        if d0.status == TRACKED:
+            assert d0.box == front
+        return d0.status == TRACKED
+
+    assert reidentified([front, back])
+    assert not reidentified([both, back])
+    assert not reidentified([front, back], MultiTrackerConfig(reid_beside_held=False))
+
+
+def test_dancer_reenters_at_the_edge_without_detector(tmp_path):
+    """Without detections a dancer who left on the right is re-identified on the strip at that edge when it comes
+    back (its histogram matches the memory clearly better than the empty edge did), and followed in."""
+    from hdvr.tracking.multi import OUT
+
+    truth = _exit_clip(tmp_path / "clip.mp4")
+    boxes, status = _run(tmp_path / "clip.mp4", truth)
+    gone = ~np.isfinite(truth.boxes[:, 1, 0])
+    back = int(np.flatnonzero(gone)[-1]) + 1  # first frame with a part of it in the frame again
+    out = np.array([s[1] == OUT for s in status])
+    assert out[gone].all() and not out[:50].any(), np.flatnonzero(out)
+    first_seen = back + int(np.argmin(out[back:]))
+    assert not out[first_seen:].any() and first_seen - back <= 15, (back, first_seen)
+    after = range(first_seen, first_seen + 20)  # the box follows it in
+    assert np.mean([iou_matrix(truth.boxes[t, 1:], boxes[t, 1:])[0, 0] for t in after]) > 0.6
+    scores = evaluate_tracking(truth.boxes, boxes)
+    assert scores.id_switches == 0 and scores.idf1 > 0.9, scores

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hdvr.errors import HDVRError
-from hdvr.layouts import BODY25_NAMES
+from hdvr.layouts import BODY25, BODY25_NAMES, convert, guess_layout
 
 
 @dataclass(frozen=True)
@@ -114,3 +114,25 @@ def pck(predicted: np.ndarray, truth: np.ndarray, alpha: float = 0.2, joints=Non
         valid_pred &= predicted[..., 2] > 0
     correct = valid_pred & (np.where(valid_pred, dist, np.inf) <= alpha * ref[..., None])
     return float(correct[has_truth].mean())
+
+
+def visible_truth_keypoints(keypoints2d: np.ndarray, visibility: np.ndarray) -> np.ndarray:
+    """Ground truth for :func:`pck` from a synthetic clip's ``gt.npz`` arrays ``keypoints2d`` (N, T, 25, 2) px and
+    ``visibility`` (N, T, 25) (2 visible, 1 hidden by another dancer, 0 outside the image): (T, N, 25, 3) x_px,
+    y_px, 1 where visible and 0 elsewhere, so that only visible keypoints are scored."""
+    keypoints2d = np.asarray(keypoints2d, float)
+    visibility = np.asarray(visibility)
+    if keypoints2d.ndim != 4 or keypoints2d.shape[-1] != 2 or visibility.shape != keypoints2d.shape[:-1]:
+        raise HDVRError(f"expected keypoints2d (N, T, J, 2) and visibility (N, T, J); got {keypoints2d.shape} and "
+                        f"{visibility.shape}")
+    visible = (visibility == 2).astype(float)[..., None]
+    return np.transpose(np.concatenate([keypoints2d, visible], axis=-1), (1, 0, 2, 3))
+
+
+def body25_joints_of(joint_names) -> np.ndarray:
+    """Indices of the BODY_25 joints that keypoints in the layout named by ``joint_names`` (e.g. a COCO-17
+    detector's) give after conversion to BODY_25 (:func:`hdvr.layouts.convert`): PCK's ``joints`` for scoring a
+    detector only on what it can output (COCO-17: 19 joints, no feet)."""
+    layout = guess_layout(tuple(joint_names))
+    ones = np.ones((len(joint_names), 3))
+    return np.flatnonzero(convert(ones, layout, BODY25, has_confidence=True)[:, 2] > 0)

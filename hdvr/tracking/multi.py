@@ -26,6 +26,10 @@ restarts; after ``long_lost_detections`` such frames the box's own match no long
 follows the detections for ``recovery_frames``. Its stored histogram is only updated on frames where no
 detection is missing on its box.
 
+A dancer whose box leaves the frame is *out* (no box) until it comes back: on a detection, or without one on the
+strip at the left or right edge it left by, when that strip matches its memory clearly better than the empty edge
+did (:meth:`MultiDancerTracker._reenter_at_edge`).
+
 Dancers may start later than the first frame (:meth:`MultiDancerTracker.add_dancer`).
 
 Boxes are (x, y, w, h) pixels, top-left corner; velocities px/frame; frames are 0-based indices.
@@ -73,6 +77,9 @@ class MultiTrackerConfig:
     relocate_min_similarity: float = 0.3  # a candidate must correlate at least this well to be taken
     reid_similarity: float = 0.6  # before the predicted end of an overlap, a clear candidate needs this much
     reid_margin: float = 0.2  # ... and this much more than with any other occluded dancer's memory
+    reid_beside_held: bool = True  # a detection that overlaps tracked dancers may re-identify an occluded dancer
+    # when each of them holds a detection of its own (:meth:`_reidentify`)
+    reid_held_overlap: float = 0.5  # ... whose body core this one overlaps less than this (intersection / smaller)
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
@@ -94,6 +101,9 @@ class MultiTrackerConfig:
     group_margin: float = 0.15  # ... and fits every other dancer by this much less
     group_adaptation: float = 0.5  # per such detection, weight of the detected box in the dancer's box
     out_fraction: float = 0.35  # a box with less than this fraction of its area in the frame is out of it
+    edge_reentry: bool = True  # a dancer who left on the left or right is re-identified on a strip at that edge
+    # whose histogram matches its memory (:meth:`_reenter_at_edge`); works without a detector
+    edge_strip: float = 0.5  # width of that strip, x the dancer's box width
     learn_inside: float = 0.9  # the tracker learns only while at least this fraction of its box is in the frame
 
 
@@ -118,6 +128,8 @@ class DancerTrack:
     offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
     recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
     size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
+    exit_side: str | None = None  # "left" or "right": the frame edge the dancer left by (None: another or none)
+    edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
 
     @property
     def body_center(self) -> np.ndarray:
@@ -364,6 +376,7 @@ class MultiDancerTracker:
                                extra=[own])
         # 5. dancers out of the frame: re-identified when they come back
         self._reenter(frame, detections)
+        self._reenter_at_edge(frame)
         return self.result()
 
     def _leaves_frame(self, d: DancerTrack, frame, t: int) -> bool:
@@ -379,16 +392,59 @@ class MultiDancerTracker:
         return histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram) < c.failure_histogram
 
     def _set_out(self, d: DancerTrack) -> None:
-        """Dancer ``d`` has left the frame: no box until it is re-identified (:meth:`_reenter`)."""
+        """Dancer ``d`` has left the frame: no box until it is re-identified (:meth:`_reenter`,
+        :meth:`_reenter_at_edge`). The edge it left by is where its box overflows the frame most."""
         d.status, d.confidence, d.missed = OUT, 0.0, 0
+        x, _, w, _ = d.box
+        left, right = -x, x + w - self.frame_size[0]
+        d.exit_side = ("left" if left > right else "right") if max(left, right) > 0 else None
+        d.edge_empty_score = 1.0
+
+    def _edge_strip(self, d: DancerTrack) -> tuple[float, float, float, float]:
+        """The strip (px) at the edge dancer ``d`` left by where it would show first when it comes back: the
+        height and vertical place of its last clear box, ``edge_strip`` x its width wide."""
+        _, y, w, h = d.stored_box
+        sw = self.config.edge_strip * w
+        x = 0.0 if d.exit_side == "left" else self.frame_size[0] - sw
+        return (x, y, sw, h)
+
+    def _reenter_at_edge(self, frame) -> None:
+        """Dancers out of the frame that left by the left or right edge are re-identified there without a
+        detection. The strip of :meth:`_edge_strip` is a candidate when it is clear of every tracked dancer and its
+        histogram matches the dancer's memory by ``reid_margin`` better than the emptiest view of that strip
+        since the dancer left (a thin dancer's strip is mostly background, which may match its memory too); the
+        candidates are matched by :meth:`_histogram_matches` against the memories of every dancer not seen now.
+        The box (the last clear size, inside the frame at that edge: a tracker started on a box partly outside
+        stays there) is taken and the tracker restarts there with no velocity."""
+        c = self.config
+        out = [d for d in self.dancers if d.status == OUT and d.exit_side is not None]
+        if not c.edge_reentry or not out:
+            return
+        tracked = [o.box for o in self.dancers if o.status == TRACKED]
+        unseen = [o for o in self.dancers if o.status != TRACKED]
+        candidates = []
+        for d in out:
+            strip = self._edge_strip(d)
+            score = histogram_similarity(colour_histogram(frame, strip), d.stored_histogram)
+            empty = d.edge_empty_score
+            d.edge_empty_score = min(empty, score)
+            if score >= empty + c.reid_margin and all(box_overlap(strip, self._core(o)) <= c.overlap_threshold
+                                                      for o in tracked):
+                candidates.append((d, [strip]))
+        for d, strip, score in self._histogram_matches(frame, candidates, unseen):
+            w, h = d.stored_box[2:]
+            box = (0.0 if d.exit_side == "left" else self.frame_size[0] - w, strip[1], w, h)
+            self._take(d, box, score)
+            d.tracker.init(frame, self._core(box))
+            d.stored_velocity = np.zeros(2)
 
     def _reenter(self, frame, detections) -> None:
-        """Dancers out of the frame who come back are re-identified on person detections (without a detector
-        they stay out: patches at the edge were tried, but a thin dancer's histogram is mostly background and
-        matched the empty edge). Candidates: the detections that no tracked dancer takes (:meth:`_claimed`; a
-        dancer comes back at the edge, or anywhere after a tracker pushed off the frame) and whose height is
-        within ``max_height_change`` of the dancer's last clear box, matched by :meth:`_histogram_matches` against
-        every dancer not seen now (occluded or out). The dancer's tracker restarts there, with no velocity."""
+        """Dancers out of the frame who come back are re-identified on person detections (without one, at the
+        edge they left by: :meth:`_reenter_at_edge`). Candidates: the detections that no tracked dancer takes
+        (:meth:`_claimed`; a dancer comes back at the edge, or anywhere after a tracker pushed off the frame) and
+        whose height is within ``max_height_change`` of the dancer's last clear box, matched by
+        :meth:`_histogram_matches` against every dancer not seen now (occluded or out). The dancer's tracker
+        restarts there, with no velocity."""
         c = self.config
         out = [d for d in self.dancers if d.status == OUT]
         if not out or not detections:
@@ -619,33 +675,50 @@ class MultiDancerTracker:
     def _claimed(self, detections) -> set[int]:
         """Indices of the detections that tracked dancers take in one assignment (Hungarian on
         :meth:`_fit_score`, at least ``group_min_score``)."""
-        tracked = [o.box for o in self.dancers if o.status == TRACKED]
+        return set(self._claims(detections).values())
+
+    def _claims(self, detections) -> dict[int, int]:
+        """Tracked dancer id -> index of the detection it takes in one assignment (Hungarian on
+        :meth:`_fit_score`, at least ``group_min_score``)."""
+        tracked = [o for o in self.dancers if o.status == TRACKED]
         if not tracked or not detections:
-            return set()
-        score = np.array([[self._fit_score(b, det) for det in detections] for b in tracked])
-        return {int(k) for i, k in zip(*linear_sum_assignment(-score)) if score[i, k] >= self.config.group_min_score}
+            return {}
+        score = np.array([[self._fit_score(o.box, det) for det in detections] for o in tracked])
+        return {tracked[i].dancer_id: int(k) for i, k in zip(*linear_sum_assignment(-score))
+                if score[i, k] >= self.config.group_min_score}
 
     def _reidentify(self, frame, occluded: list[DancerTrack], own_boxes: list, detections) -> None:
         """Occluded dancers that show clearly again take their place before the predicted end of the overlap.
 
         Candidates of each occluded dancer are its own tracker's box and the detections near its predicted or its
         last clear position (within ``2 min_search_radius`` box heights) that no tracked dancer takes
-        (:meth:`_claimed`), if clear of every tracked dancer's body core. (Also taking detections that overlap a
-        tracked dancer fixed a tango couple but cost IDF1 0.15-0.2 on procedural 4-dancer clips with the
-        detector.) Matched by :meth:`_histogram_matches` against the other occluded dancers' memories."""
+        (:meth:`_claims`), if clear of every tracked dancer's body core. A detection may also overlap tracked
+        dancers that each hold a detection of their own in that assignment, if its body core overlaps the
+        core of theirs less than ``reid_held_overlap`` (``reid_beside_held``): then it is a second person beside
+        them, not them nor a box around them (a dancer in front of a partner's spread arm; taking any detection
+        that overlaps a tracked dancer cost IDF1 0.15-0.2 on procedural 4-dancer clips with the detector).
+        Matched by :meth:`_histogram_matches` against the other occluded dancers' memories."""
         c = self.config
         if not occluded:
             return
-        tracked = [o.box for o in self.dancers if o.status == TRACKED]
+        tracked = [o for o in self.dancers if o.status == TRACKED]
         dets = [tuple(float(v) for v in det) for det in detections or []]
-        claimed = self._claimed(dets)
-        free = [det for k, det in enumerate(dets) if k not in claimed]
+        claims = self._claims(dets)
+        free = [det for k, det in enumerate(dets) if k not in claims.values()]
+
+        def clear(box, is_detection: bool) -> bool:
+            # clear of every tracked dancer's body core, or (a detection) of every one that holds a detection of
+            # its own that this one does not mostly overlap (a box around both, or a part of it)
+            return all(self._bodies_overlap(box, o.box) <= c.overlap_threshold
+                       or (is_detection and c.reid_beside_held and o.dancer_id in claims
+                           and self._bodies_overlap(box, dets[claims[o.dancer_id]]) < c.reid_held_overlap)
+                       for o in tracked)
+
         candidates = []
         for d, own in zip(occluded, own_boxes):
             radius = c.min_search_radius * d.box[3] * 2
             near = [det for det in free if min(np.linalg.norm(_centre(det) - d.center),
                                                np.linalg.norm(_centre(det) - _centre(d.stored_box))) <= radius]
-            candidates.append((d, [box for box in near + [own]
-                                   if all(self._bodies_overlap(box, o) <= c.overlap_threshold for o in tracked)]))
+            candidates.append((d, [box for box in near if clear(box, True)] + ([own] if clear(own, False) else [])))
         for d, box, score in self._histogram_matches(frame, candidates, occluded):
             self._take(d, box, score)
