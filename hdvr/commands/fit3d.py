@@ -38,7 +38,7 @@ def add_fit_arguments(p: argparse.ArgumentParser) -> None:
                         "instead of choosing it for the whole clip by the arms' steadiness in the trunk frame")
     p.add_argument("--joint-ranges", choices=("anatomical", "paper"), default=None,
                    help="hinge ranges: the paper's, or widened to normal human motion (default)")
-    p.add_argument("--refine-sweeps", type=int, default=None, help="sequence refinement sweeps (default 2)")
+    p.add_argument("--refine-sweeps", type=int, default=None, help="sequence refinement sweeps (default 3)")
     p.add_argument("--seed", type=int, default=None, help="random seed (default 0)")
     p.add_argument("--workers", type=int, default=None,
                    help="processes fitting chunks of a long clip at once (default: the CPU cores available)")

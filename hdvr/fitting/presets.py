@@ -52,7 +52,7 @@ class FitSettings:
     fresh_yaws: int = 8  # upright orientations a fresh start tries
     fresh_flips: bool = False  # a fresh start also tries every segment mirror (measured: no gain, 2x cost)
     limb_depth: bool = True  # each arm's depth branch chosen for the whole clip (hdvr.fitting.limb_depth)
-    refine_sweeps: int = 2  # sequence-level refinement sweeps (second-difference smoothness, no seams)
+    refine_sweeps: int = 3  # sequence-level refinement sweeps (second-difference smoothness, no seams)
     robust_px: float | None = 20.0  # Cauchy scale of the reprojection loss; None = plain least squares
     sigma_px: float = 1.0
     min_confidence: float = 0.05
