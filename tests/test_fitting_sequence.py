@@ -44,6 +44,9 @@ def test_fit_with_given_focal_is_close_and_plausible(salsa):
     world = sk.keypoints(result.qpos)
     assert np.allclose((world - result.camera_centre) @ result.camera_rotation.T, result.keypoints3d, atol=1e-4)
     assert report.frames == 60 and report.frames_per_second > 0
+    assert 0 <= report.arm_depth_frames <= 60 and result.meta["arm_depth_frames"] == report.arm_depth_frames
+    _, off = fit_keypoints(kp, FitSettings(focal=FOCAL, limb_depth=False), Skeleton())
+    assert off.arm_depth_frames == 0
 
 
 def test_bones_from_projections_match_the_mocap(salsa):

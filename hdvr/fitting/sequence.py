@@ -63,6 +63,7 @@ class FitReport:
     focal_estimated: bool = False
     floor_contact_fraction: float = 0.0
     reinitialisations: int = 0
+    arm_depth_frames: int = 0  # frames whose arm depth the clip-level choice changed (hdvr.fitting.limb_depth)
     keypoint_noise_px: float = float("nan")  # estimated jitter of the 2D keypoints (hdvr.fitting.smoothing)
     smoothed_2d: bool = False  # whether the 2D tracks were smoothed before the fit
 
@@ -137,10 +138,11 @@ def repair_limb_depth(fitter: WindowFitter, track: Track, iterations: int = 6, t
 
 def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, focal: float, pp: np.ndarray,
                 settings: FitSettings, estimate_focal: bool, vertical: np.ndarray | None = None
-                ) -> tuple[Track, int]:
+                ) -> tuple[Track, int, int]:
     """Windows + refinement over the whole clip, chunk by chunk (:mod:`hdvr.fitting.chunks`), stitched.
 
-    Returns the track (camera frame) and the number of re-initialised windows."""
+    Returns the track (camera frame), the number of re-initialised windows and the number of frames whose arm
+    depth the clip-level choice changed (counted per chunk, overlaps included)."""
     n = len(obs)
     spans = chunk_spans(n, settings.chunk_frames)
     per_frame = 1 + max(settings.refine_sweeps, 0)
@@ -151,21 +153,21 @@ def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, foc
         fitter = WindowFitter(kin, obs[c.start:c.stop], weights[c.start:c.stop], focal, pp, chunk_settings,
                               estimate_focal, vertical)
         track = fitter.fit(tick=tick)
-        if settings.limb_depth:
-            repair_limb_depth(fitter, track)
+        changed = repair_limb_depth(fitter, track) if settings.limb_depth else 0
         if settings.refine_sweeps > 0:
             track = refine(fitter, track, settings, estimate_floor(track.keypoints), tick=tick)
-        return track, fitter.reinit_count
+        return track, fitter.reinit_count, changed
 
     with progress(total=n * per_frame + sum(c.nominal_start - c.start for c in spans) * per_frame,
                   desc="fit3d") as bar:
         results = run_chunks(work, len(spans), resolve_workers(settings.workers), on_progress=bar.update)
-    reinit = sum(count for _, count in results)
+    reinit = sum(r[1] for r in results)
+    changed = sum(r[2] for r in results)
     if len(spans) == 1:
-        return results[0][0], reinit
+        return results[0][0], reinit, changed
     full = Track(np.zeros((n, 41)), np.zeros((n, 25, 3)), np.zeros(n), np.zeros(n), np.zeros((n, 9)))
     seams = []
-    for c, (part, _) in zip(spans, results):
+    for c, (part, *_) in zip(spans, results):
         if c.start == 0:
             first = 0
         else:
@@ -180,7 +182,7 @@ def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, foc
         for s in seams:
             refine(fitter, full, settings, floor, desc="seam", frames=range(s - SEAM_REFINE, s + SEAM_REFINE),
                    sweeps=settings.refine_sweeps + 1)
-    return full, reinit
+    return full, reinit, changed
 
 
 def clip_vertical(keypoints_cam: np.ndarray, within_deg: float = 25.0, rounds: int = 3) -> np.ndarray:
@@ -257,7 +259,8 @@ def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skel
     report.seconds["calibration"] = time.perf_counter() - clock
 
     clock = time.perf_counter()
-    track, report.reinitialisations = fit_chunked(kin, obs, weights, focal, pp, settings, estimate_focal, vertical)
+    track, report.reinitialisations, report.arm_depth_frames = fit_chunked(kin, obs, weights, focal, pp, settings,
+                                                                           estimate_focal, vertical)
     fitter = WindowFitter(kin, raw_obs, weights, focal, pp, settings, estimate_focal)  # errors vs the input
     floor = estimate_floor(track.keypoints)
     report.seconds["windows_and_refinement"] = time.perf_counter() - clock
@@ -273,6 +276,7 @@ def _fit_keypoints(kp: Keypoints2D, settings: FitSettings | None, skeleton: Skel
     report.floor_contact_fraction = floor.contact_fraction
     meta = {"settings": settings.to_dict(), "focal_estimated": estimate_focal,
             "floor_contact_fraction": floor.contact_fraction, "reinitialisations": report.reinitialisations,
+            "arm_depth_frames": report.arm_depth_frames,
             "keypoint_noise_px": report.keypoint_noise_px, "smoothed_2d": report.smoothed_2d,
             "seconds": dict(report.seconds)}
     result = Result3D(keypoints3d=track.keypoints, qpos=qpos_world, focal=track.focal,
