@@ -99,14 +99,15 @@ def limb_branches(keypoints: np.ndarray, root: int, middle: int, end: int
     return cands, np.array(exists), np.argmin(gap, axis=0)
 
 
-def choose_branches(keypoints: np.ndarray, root: int, middle: int, end: int, costs: BranchCosts = BranchCosts()
-                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Viterbi over the four branches of one limb for the whole clip (see module doc).
+def choose_branches(keypoints: np.ndarray, root: int, middle: int, end: int, costs: BranchCosts = BranchCosts(),
+                    frames: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Viterbi over the four branches of one limb for the whole clip (see module doc). ``frames``: the
+    :func:`trunk_frames` of ``keypoints``, if already computed.
 
     Returns the chosen branch per frame (T,), the candidate positions (4, T, 2, 3) of :func:`limb_branches` and
     the branch the given keypoints are on (T,)."""
     cands, exists, fitted = limb_branches(keypoints, root, middle, end)
-    frames = trunk_frames(keypoints)
+    frames = trunk_frames(keypoints) if frames is None else frames
     seg_a = cands[:, :, 0] - keypoints[None, :, root]
     seg_b = cands[:, :, 1] - cands[:, :, 0]
     seg_a = seg_a / np.maximum(np.linalg.norm(seg_a, axis=-1, keepdims=True), 1e-9)
@@ -117,7 +118,6 @@ def choose_branches(keypoints: np.ndarray, root: int, middle: int, end: int, cos
     n_branch, n = exists.shape
     unary = (costs.stay_cost * (np.arange(n_branch)[:, None] != fitted[None])
              + costs.elbow_cost * (flexion > costs.max_flexion_deg) + costs.missing_cost * ~exists)
-    unary[~np.isfinite(unary)] = costs.missing_cost
     total = unary[:, 0].copy()
     back = np.zeros((n_branch, n), dtype=np.int64)
     for t in range(1, n):
@@ -139,8 +139,9 @@ def arm_targets(keypoints: np.ndarray, costs: BranchCosts = BranchCosts()
     the fitted one, and a mask (T, 25) bool of the keypoints moved (the frames to re-solve)."""
     out = keypoints.copy()
     moved = np.zeros(keypoints.shape[:2], dtype=bool)
+    frames = trunk_frames(keypoints)
     for root, middle, end in ARMS.values():
-        path, cands, fitted = choose_branches(keypoints, root, middle, end, costs)
+        path, cands, fitted = choose_branches(keypoints, root, middle, end, costs, frames)
         change = np.flatnonzero(path != fitted)
         chosen = cands[path[change], change]  # (C, 2, 3)
         out[change, middle], out[change, end] = chosen[:, 0], chosen[:, 1]

@@ -29,6 +29,10 @@ for _side in ("right", "left"):
     SEGMENTS[f"{_side}_shank"] = (_IDX[f"{_side}_knee"], _IDX[f"{_side}_ankle"], (_IDX[f"{_side}_ankle"],) + _foot)
 LIMB_NAMES = tuple(SEGMENTS)
 
+#: Weight (per metre) of 3D targets that pull a pose towards a chosen limb shape while it keeps fitting the image
+#: (mirrored-limb seeds here; the clip-level arm depth of :func:`hdvr.fitting.sequence.repair_limb_depth`).
+TARGET_WEIGHT = 300.0
+
 
 def root_rotation_facing(yaw_rad: float, vertical: np.ndarray | None = None) -> np.ndarray:
     """Pelvis rotation (3, 3) in the camera frame: upright (body z -> ``vertical``, the clip's up direction in the
@@ -115,7 +119,7 @@ def mirror_limb(problem: FrameProblem, qpos: np.ndarray, limb: str, bounds, max_
     x0, quat = tangent_from_qpos(qpos)
     saved_quat, saved_terms = problem.quat_ref, problem.terms3d
     problem.quat_ref = quat
-    problem.terms3d = [LinearTerm(1.0, -target, 300.0, mask)]
+    problem.terms3d = [LinearTerm(1.0, -target, TARGET_WEIGHT, mask)]
     params0 = np.concatenate([x0, np.zeros(problem.num_params - len(x0))])
     if problem.estimate_focal:
         params0[-1] = np.log(problem.focal)

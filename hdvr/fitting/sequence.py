@@ -40,6 +40,7 @@ from hdvr.fitting.limb_depth import BranchCosts, arm_targets
 from hdvr.fitting.limits import apply_ranges
 from hdvr.fitting.presets import FitSettings, default_joint_weights
 from hdvr.fitting.residuals import FOOT_KEYPOINTS, FloorTerms, LinearTerm
+from hdvr.fitting.seeds import TARGET_WEIGHT
 from hdvr.fitting.smoothing import adaptive_smooth
 from hdvr.fitting.window import Track, WindowFitter
 from hdvr.io.keypoints2d import Keypoints2D
@@ -119,8 +120,8 @@ def refine(fitter: WindowFitter, track: Track, settings: FitSettings, floor: Flo
     return track
 
 
-def repair_limb_depth(fitter: WindowFitter, track: Track, iterations: int = 6, target_weight: float = 300.0
-                      ) -> int:
+def repair_limb_depth(fitter: WindowFitter, track: Track, iterations: int = 6,
+                      target_weight: float = TARGET_WEIGHT) -> int:
     """Move each arm to the depth branch chosen for the whole clip (:mod:`hdvr.fitting.limb_depth`): every frame
     whose branch changes is re-solved on its 2D keypoints plus 3D targets (``target_weight`` per metre) on the
     moved elbow / wrist, from its fitted pose; the refinement that follows settles them with their neighbours.

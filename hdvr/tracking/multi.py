@@ -434,9 +434,7 @@ class MultiDancerTracker:
         for d, strip, score in self._histogram_matches(frame, candidates, unseen):
             w, h = d.stored_box[2:]
             box = (0.0 if d.exit_side == "left" else self.frame_size[0] - w, strip[1], w, h)
-            self._take(d, box, score)
-            d.tracker.init(frame, self._core(box))
-            d.stored_velocity = np.zeros(2)
+            self._back_in_frame(d, frame, box, score)
 
     def _reenter(self, frame, detections) -> None:
         """Dancers out of the frame who come back are re-identified on person detections (without one, at the
@@ -458,9 +456,13 @@ class MultiDancerTracker:
                            if 1 / c.max_height_change <= box[3] / d.stored_box[3] <= c.max_height_change])
                       for d in out]
         for d, box, score in self._histogram_matches(frame, candidates, unseen):
-            self._take(d, box, score)
-            d.tracker.init(frame, self._core(box))
-            d.stored_velocity = np.zeros(2)
+            self._back_in_frame(d, frame, box, score)
+
+    def _back_in_frame(self, d: DancerTrack, frame, box, score: float) -> None:
+        """Dancer ``d``, out of the frame, is back at ``box``: taken there, its tracker restarted, no velocity."""
+        self._take(d, box, score)
+        d.tracker.init(frame, self._core(box))
+        d.stored_velocity = np.zeros(2)
 
     def _histogram_matches(self, frame, candidates, rivals) -> list[tuple[DancerTrack, tuple, float]]:
         """One-to-one matches of dancers to candidate boxes (px) by colour histogram, best first:
