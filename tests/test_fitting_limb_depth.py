@@ -127,11 +127,24 @@ def test_the_fit_is_moved_to_the_chosen_arm_depth():
     arm = [IDX["right_elbow"], IDX["right_wrist"]]
     before = np.linalg.norm(track.keypoints[:, arm] - true_kp[:, arm], axis=-1).max(axis=1)
     assert (before > 0.1).mean() > 0.5  # the mirror is far from the truth on most frames
+    shoulder = IDX["right_shoulder"]
+    shoulder_before = track.keypoints[:, shoulder].copy()
     resolved = repair_limb_depth(fitter, track)
     after = np.linalg.norm(track.keypoints[:, arm] - true_kp[:, arm], axis=-1).max(axis=1)
+    shoulder_shift = np.linalg.norm(track.keypoints[:, shoulder] - shoulder_before, axis=1)
+
+    def direction(kp):
+        v = kp[:, IDX["right_elbow"]] - kp[:, shoulder]
+        return v / np.linalg.norm(v, axis=1, keepdims=True)
+
+    angle = np.degrees(np.arccos(np.clip((direction(track.keypoints) * direction(true_kp)).sum(1), -1, 1)))
     far = before > 0.1
     assert resolved >= far.sum() * 0.8
     # 6 iterations towards the chosen branch (the refinement finishes the job in the pipeline)
     assert (after[far] < 0.5 * before[far]).mean() > 0.8 and np.median(after[far]) < 0.06
+    # the arm turned, not the trunk: the shoulder stays put and the upper arm points the true way
+    # (reaching the elbow by moving the shoulder in depth left 100 deg errors here before it was pinned)
+    assert np.median(shoulder_shift[far]) < 0.01 and (shoulder_shift[far] < 0.05).mean() > 0.8
+    assert np.median(angle[far]) < 5.0 and (angle[far] < 15.0).mean() > 0.8
     hinges = track.qpos[:, 7:]
     assert np.all(hinges >= kin.skeleton.lower - 1e-9) and np.all(hinges <= kin.skeleton.upper + 1e-9)

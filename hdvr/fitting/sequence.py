@@ -124,13 +124,13 @@ def repair_limb_depth(fitter: WindowFitter, track: Track, iterations: int = 6,
                       target_weight: float = TARGET_WEIGHT) -> int:
     """Move each arm to the depth branch chosen for the whole clip (:mod:`hdvr.fitting.limb_depth`): every frame
     whose branch changes is re-solved on its 2D keypoints plus 3D targets (``target_weight`` per metre) on the
-    moved elbow / wrist, from its fitted pose; the refinement that follows settles them with their neighbours.
-    Returns the number of frames re-solved."""
-    targets, moved = arm_targets(track.keypoints, BranchCosts())
-    frames = np.flatnonzero(moved.any(axis=1))
+    moved elbow / wrist and on their shoulder where it was, from its fitted pose; the refinement that follows
+    settles them with their neighbours. Returns the number of frames re-solved."""
+    targets, pinned = arm_targets(track.keypoints, BranchCosts())
+    frames = np.flatnonzero(pinned.any(axis=1))
     for t in frames:
         problem = fitter.problem(t, None, track.focal[t], [], [])
-        problem.terms3d = [LinearTerm(1.0, -targets[t], target_weight, moved[t].astype(np.float64))]
+        problem.terms3d = [LinearTerm(1.0, -targets[t], target_weight, pinned[t].astype(np.float64))]
         q, _, _ = fitter.solve(problem, track.qpos[t], track.focal[t], iterations)
         track.qpos[t] = q
         track.keypoints[t] = fitter.kin.keypoints(q)
