@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from hdvr.fitting.limb_depth import ARMS, arm_targets, limb_branches, ray_sphere_depths, trunk_frames
+from hdvr.fitting.limb_depth import (ARMS, BranchCosts, arm_targets, choose_branches, limb_branches,
+                                     ray_sphere_depths, repertoire_cost, trunk_frames, viterbi)
 from hdvr.layouts import BODY25_NAMES
 
 IDX = {n: i for i, n in enumerate(BODY25_NAMES)}
@@ -12,10 +13,15 @@ IDX = {n: i for i, n in enumerate(BODY25_NAMES)}
 def spinning_dancer(frames: int = 60, deg_per_frame: float = 8.0) -> np.ndarray:
     """(T, 25, 3) camera-frame keypoints (x right, y down, z forward) of a trunk turning about the vertical 4 m in
     front of the camera, both arms held in one bent shape in the trunk frame (raised forward, elbows bent up)."""
-    kp = np.zeros((frames, 25, 3))
+    return held_arms_dancer(deg_per_frame * np.arange(frames) + 20.0)
+
+
+def held_arms_dancer(yaw_deg: np.ndarray) -> np.ndarray:
+    """Keypoints as :func:`spinning_dancer`, the trunk turned ``yaw_deg`` (T,) from facing the camera."""
+    kp = np.zeros((len(yaw_deg), 25, 3))
     up = np.array([0.0, -1.0, 0.0])
-    for t in range(frames):
-        yaw = np.radians(deg_per_frame * t + 20.0)
+    for t in range(len(yaw_deg)):
+        yaw = np.radians(yaw_deg[t])
         forward = np.array([np.sin(yaw), 0.0, -np.cos(yaw)])  # yaw 0: facing the camera
         left = np.cross(up, forward)
         hip = np.array([0.1, 0.2, 4.0])
@@ -88,6 +94,57 @@ def test_arms_mirrored_in_depth_through_a_spin_are_put_back():
     restored = np.linalg.norm(out[:, joints] - truth[:, joints], axis=-1).max(axis=1) < 1e-6
     assert restored[differs].mean() > 0.9
     assert moved[differs].any(axis=1).mean() > 0.9
+
+
+def test_viterbi_finds_the_least_total_cost():
+    """Against exhaustive search over every state sequence of small random problems."""
+    import itertools
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        unary, features = rng.uniform(0, 2, (3, 5)), rng.normal(size=(3, 5, 2))
+
+        def total(seq):
+            return (sum(unary[s, t] for t, s in enumerate(seq))
+                    + sum(np.linalg.norm(features[seq[t], t] - features[seq[t - 1], t - 1]) / 0.5
+                          for t in range(1, 5)))
+
+        best = min(itertools.product(range(3), repeat=5), key=total)
+        assert total(viterbi(unary, features, 0.5, 10.0)) == pytest.approx(total(best))
+
+
+def test_repertoire_cost_favours_shapes_seen_on_other_frames():
+    n = 40
+    seen = np.tile([1.0, 0.0], (n, 1))  # the shape chosen on every frame
+    features = np.stack([seen, np.tile([0.0, 1.0], (n, 1))])  # state 0 = that shape, state 1 = another
+    cost = repertoire_cost(features, seen, bandwidth=0.3, exclude_frames=5)
+    assert np.all(cost[0] == 0) and np.all(cost[1] > 3)
+    # a shape chosen on a single frame gets no support from that frame itself
+    once = seen.copy()
+    once[20] = [0.0, 1.0]
+    cost = repertoire_cost(features, once, bandwidth=0.3, exclude_frames=5)
+    assert cost[1, 20] > 3 and cost[0, 20] == 0
+
+
+def test_the_repertoire_reaches_held_arms_while_the_trunk_stands_still():
+    """The trunk turns for 150 frames, then stands still for 60 with the same arm shape; the fit has the right
+    arm's depth mirror on every still frame. Rigidity alone cannot tell there: both branches are still, and with a
+    leave cost of 1 per frame staying costs less than the one jump back. The shape the arm held while the trunk
+    turned puts it back."""
+    yaw = np.concatenate([20.0 + 2.4 * np.arange(150), np.full(60, 20.0 + 2.4 * 149)])
+    truth = held_arms_dancer(yaw)
+    root, middle, end = ARMS["right"]
+    cands, _, idx = limb_branches(truth, root, middle, end)
+    fitted = truth.copy()
+    still = np.arange(150, 210)
+    mirror = cands[3 - idx[still], still]
+    fitted[still, middle], fitted[still, end] = mirror[:, 0], mirror[:, 1]
+    assert np.linalg.norm(fitted[still, end] - truth[still, end], axis=-1).min() > 0.1
+    without, _, _ = choose_branches(fitted, root, middle, end, BranchCosts(stay_cost=1.0, repertoire_weight=0.0))
+    with_rep, _, _ = choose_branches(fitted, root, middle, end, BranchCosts(stay_cost=1.0))
+    true_branch = limb_branches(truth, root, middle, end)[2]
+    assert (without[still] == true_branch[still]).mean() < 0.2
+    assert (with_rep[still] == true_branch[still]).mean() > 0.9
+    assert (with_rep[:150] == true_branch[:150]).mean() > 0.9
 
 
 def test_the_fit_is_moved_to_the_chosen_arm_depth():

@@ -15,12 +15,17 @@ evidence from both sides in time:
 - **the fit's own choice** (unary ``stay_cost`` per frame away from it): the fit weighs the pose prior and joint limits,
   which the branches' keypoints alone do not see;
 - **the elbow** (unary ``elbow_cost``): a branch that flexes the elbow beyond ``max_flexion_deg`` is implausible;
-  a branch whose ray misses the sphere (no real intersection) costs ``missing_cost``.
+  a branch whose ray misses the sphere (no real intersection) costs ``missing_cost``;
+- **the dancer's own repertoire** (unary, second pass): dancers come back to the same arm shapes (a hold, a
+  carriage), so where the trunk turns and the choice is clear, it shows where this dancer holds the arm. After a
+  first Viterbi, each branch of each frame costs ``repertoire_weight x -log`` of a Gaussian kernel density
+  (bandwidth ``repertoire_bandwidth`` in the 6 stacked direction numbers) of the directions chosen on the other
+  frames (more than ``repertoire_exclude_frames`` away, so a frame does not vote for itself), relative to the
+  frame's best branch; then the Viterbi runs again. This reaches frames whose trunk does not turn.
 
 Measured on 14 salsa clips of 10 s (``scripts/fit_clips.py``; docs/fitting.md): the arm branches of the windowed
-fit are wrong on 10-14 % of frames per segment and choosing them with the mocap as oracle would take P-MPJPE from
-54 to 39 mm; this choice (applied to the keypoints alone) takes it to 46.3 mm clean and from 57.9 to 51.0 mm with
-3 px noise.
+fit are wrong on 10-14 % of frames per segment; with this choice the fit's P-MPJPE goes from 53.9 to 43.6 mm
+clean and from 57.9 to 47.3 mm with 3 px noise (the repertoire's share: 45.2 -> 43.6 and 50.1 -> 47.3).
 
 All positions are camera-frame metres (x right, y down, z forward; the camera centre at the origin).
 """
@@ -49,6 +54,9 @@ class BranchCosts:
     elbow_cost: float = 3.0
     missing_cost: float = 10.0
     max_flexion_deg: float = 150.0
+    repertoire_weight: float = 1.5  # 0: no second pass
+    repertoire_bandwidth: float = 0.3
+    repertoire_exclude_frames: int = 15
 
 
 def ray_sphere_depths(centre: np.ndarray, ray: np.ndarray, radius: float | np.ndarray
@@ -99,6 +107,45 @@ def limb_branches(keypoints: np.ndarray, root: int, middle: int, end: int
     return cands, np.array(exists), np.argmin(gap, axis=0)
 
 
+def viterbi(unary: np.ndarray, features: np.ndarray, sigma: float, missing_cost: float) -> np.ndarray:
+    """The state sequence (T,) minimising ``sum_t unary[s_t, t] + |features[s_t, t] - features[s_{t-1}, t-1]| /
+    sigma`` for unary (S, T) and features (S, T, D); a non-finite step costs ``missing_cost``."""
+    n_state, n = unary.shape
+    total = unary[:, 0].copy()
+    back = np.zeros((n_state, n), dtype=np.int64)
+    for t in range(1, n):
+        pair = np.linalg.norm(features[:, None, t] - features[None, :, t - 1], axis=-1) / sigma  # (now, before)
+        pair[~np.isfinite(pair)] = missing_cost
+        step = total[None, :] + pair
+        back[:, t] = np.argmin(step, axis=1)
+        total = step[np.arange(n_state), back[:, t]] + unary[:, t]
+    path = np.empty(n, dtype=np.int64)
+    path[-1] = int(np.argmin(total))
+    for t in range(n - 1, 0, -1):
+        path[t - 1] = back[path[t], t]
+    return path
+
+
+def repertoire_cost(features: np.ndarray, chosen: np.ndarray, bandwidth: float, exclude_frames: int,
+                    floor: float = 1e-3) -> np.ndarray:
+    """(S, T) ``-log`` of the Gaussian kernel density (``bandwidth``) of each state's features (S, T, D) among
+    the ``chosen`` features (T, D) of the frames more than ``exclude_frames`` away, minus the frame's least
+    (so the best state of a frame costs 0); ``floor`` bounds the cost of a shape never seen elsewhere.
+    Memory O(T^2) per state (float32: 7 MB at 1350 frames, the longest chunk)."""
+    n = chosen.shape[0]
+    ref = np.nan_to_num(chosen).astype(np.float32)
+    frames = np.arange(n)
+    far = np.abs(frames[:, None] - frames[None, :]) > exclude_frames  # (T, T) which references count
+    count = np.maximum(far.sum(axis=1), 1)
+    cost = np.empty(features.shape[:2])
+    for state in range(features.shape[0]):
+        x = np.nan_to_num(features[state]).astype(np.float32)
+        d2 = np.maximum((x * x).sum(1)[:, None] + (ref * ref).sum(1)[None] - 2.0 * x @ ref.T, 0.0)
+        density = (np.exp(-0.5 * d2 / bandwidth ** 2) * far).sum(axis=1) / count
+        cost[state] = -np.log(density + floor)
+    return cost - cost.min(axis=0, keepdims=True)
+
+
 def choose_branches(keypoints: np.ndarray, root: int, middle: int, end: int, costs: BranchCosts = BranchCosts(),
                     frames: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Viterbi over the four branches of one limb for the whole clip (see module doc). ``frames``: the
@@ -118,18 +165,12 @@ def choose_branches(keypoints: np.ndarray, root: int, middle: int, end: int, cos
     n_branch, n = exists.shape
     unary = (costs.stay_cost * (np.arange(n_branch)[:, None] != fitted[None])
              + costs.elbow_cost * (flexion > costs.max_flexion_deg) + costs.missing_cost * ~exists)
-    total = unary[:, 0].copy()
-    back = np.zeros((n_branch, n), dtype=np.int64)
-    for t in range(1, n):
-        pair = np.linalg.norm(body[:, None, t] - body[None, :, t - 1], axis=-1) / costs.sigma  # (now, before)
-        pair[~np.isfinite(pair)] = costs.missing_cost
-        step = total[None, :] + pair
-        back[:, t] = np.argmin(step, axis=1)
-        total = step[np.arange(n_branch), back[:, t]] + unary[:, t]
-    path = np.empty(n, dtype=np.int64)
-    path[-1] = int(np.argmin(total))
-    for t in range(n - 1, 0, -1):
-        path[t - 1] = back[path[t], t]
+    path = viterbi(unary, body, costs.sigma, costs.missing_cost)
+    if costs.repertoire_weight > 0:
+        unary = unary + costs.repertoire_weight * repertoire_cost(body, body[path, np.arange(n)],
+                                                                  costs.repertoire_bandwidth,
+                                                                  costs.repertoire_exclude_frames)
+        path = viterbi(unary, body, costs.sigma, costs.missing_cost)
     return path, cands, fitted
 
 
