@@ -24,8 +24,8 @@ evidence from both sides in time:
   frame's best branch; then the Viterbi runs again. This reaches frames whose trunk does not turn.
 
 Measured on 14 salsa clips of 10 s (``scripts/fit_clips.py``; docs/fitting.md): the arm branches of the windowed
-fit are wrong on 10-14 % of frames per segment; with this choice the fit's P-MPJPE goes from 53.9 to 43.6 mm
-clean and from 57.9 to 47.3 mm with 3 px noise (the repertoire's share: 45.2 -> 43.6 and 50.1 -> 47.3).
+fit are wrong on 10-14 % of frames per segment; with this choice the fit's P-MPJPE goes from 53.9 to 43.3 mm
+clean and from 57.9 to 47.0 mm with 3 px noise (the repertoire's share: 45.2 -> 43.8 and 50.1 -> 47.3).
 
 All positions are camera-frame metres (x right, y down, z forward; the camera centre at the origin).
 """
@@ -52,7 +52,7 @@ class BranchCosts:
     sigma: float = 0.05
     stay_cost: float = 0.3
     elbow_cost: float = 3.0
-    missing_cost: float = 10.0
+    missing_cost: float = 3.0
     max_flexion_deg: float = 150.0
     repertoire_weight: float = 1.5  # 0: no second pass
     repertoire_bandwidth: float = 0.3
