@@ -9,7 +9,8 @@ Pipeline of :func:`fit_keypoints`:
    table's mean bones scaled to the stature, then :func:`hdvr.fitting.calibration.calibrate_from_poses` on a
    subsample of it: one bone-length set (and focal) shared by the clip.
 4. The windowed fit of :mod:`hdvr.fitting.window` (Algorithm 3* or HDVR's schedule); then (``limb_depth``) each
-   arm's depth branch chosen for the whole clip (:mod:`hdvr.fitting.limb_depth`), changed frames re-solved.
+   arm's depth branch chosen for the whole clip (:mod:`hdvr.fitting.limb_depth`), changed frames re-solved; the
+   choice is made again before the last refinement sweep, on the refined poses.
 5. Refinement (``refine_sweeps``): Gauss-Seidel sweeps over the clip, each frame re-solved against its fixed
    neighbours with second differences on both sides (so windows leave no seams) and, with ``physics``, floor
    penetration and foot-skating terms for the floor estimated from the unrefined fit.
@@ -64,7 +65,7 @@ class FitReport:
     focal_estimated: bool = False
     floor_contact_fraction: float = 0.0
     reinitialisations: int = 0
-    arm_depth_frames: int = 0  # frames whose arm depth the clip-level choice changed (hdvr.fitting.limb_depth)
+    arm_depth_frames: int = 0  # frame changes by the clip-level arm-depth choice, both rounds (hdvr.fitting.limb_depth)
     keypoint_noise_px: float = float("nan")  # estimated jitter of the 2D keypoints (hdvr.fitting.smoothing)
     smoothed_2d: bool = False  # whether the 2D tracks were smoothed before the fit
 
@@ -156,7 +157,15 @@ def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, foc
         track = fitter.fit(tick=tick)
         changed = repair_limb_depth(fitter, track) if settings.limb_depth else 0
         if settings.refine_sweeps > 0:
-            track = refine(fitter, track, settings, estimate_floor(track.keypoints), tick=tick)
+            floor = estimate_floor(track.keypoints)
+            if settings.limb_depth and settings.refine_sweeps > 1:
+                # the arm depth is chosen again before the last sweep, on refined poses (same number of sweeps)
+                track = refine(fitter, track, settings, floor, sweeps=settings.refine_sweeps - 1, tick=tick)
+                changed += repair_limb_depth(fitter, track)
+                track = refine(fitter, track, settings, floor, desc="refine (after the second arm-depth choice)",
+                               sweeps=1, tick=tick)
+            else:
+                track = refine(fitter, track, settings, floor, tick=tick)
         return track, fitter.reinit_count, changed
 
     with progress(total=n * per_frame + sum(c.nominal_start - c.start for c in spans) * per_frame,
