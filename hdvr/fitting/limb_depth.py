@@ -24,8 +24,9 @@ evidence from both sides in time:
   frame's best branch; then the Viterbi runs again. This reaches frames whose trunk does not turn.
 
 Measured on 14 salsa clips of 10 s (``scripts/fit_clips.py``; docs/fitting.md): the arm branches of the windowed
-fit are wrong on 10-14 % of frames per segment; with this choice the fit's P-MPJPE goes from 53.9 to 43.3 mm
-clean and from 57.9 to 47.0 mm with 3 px noise (the repertoire's share: 45.2 -> 43.8 and 50.1 -> 47.3).
+fit are wrong on 10-14 % of frames per segment; with this choice (made twice: after the windows and before the
+last refinement sweep, :mod:`hdvr.fitting.sequence`) the fit's P-MPJPE goes from 53.9 to 42.9 mm clean and from
+57.9 to 46.6 mm with 3 px noise (the repertoire's share: 45.2 -> 43.8 and 50.1 -> 47.3).
 
 All positions are camera-frame metres (x right, y down, z forward; the camera centre at the origin).
 """
