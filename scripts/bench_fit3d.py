@@ -157,8 +157,8 @@ def main() -> int:
     if args.ablate:
         clips = [(n, kp, gt) for n, kp, gt, _ in clips_clean]
         ablation = run_ablation(clips, ["full", "no_joint_limits", "no_bone_prior", "no_temporal", "no_pose_prior",
-                                        "no_upright", "no_limb_depth", "physics", "paper"], FitSettings(random_seed=args.seed),
-                                focal_per_clip=[f for *_, f in clips_clean])
+                                        "no_upright", "no_limb_depth", "physics", "paper"],
+                                FitSettings(random_seed=args.seed), focal_per_clip=[f for *_, f in clips_clean])
 
     reference = mocap_reference(mocap, args.seconds)
     summary = summarise(rows)

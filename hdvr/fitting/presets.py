@@ -122,8 +122,8 @@ def paper_settings(**overrides) -> FitSettings:
     base = FitSettings(stride=1, calibrate=False, joint_ranges="paper", reinit_px=1e9, seed_strategy="random",
                        focal_per_window=True, face_weight=1.0, foot_weight=1.0, refine_sweeps=0, robust_px=None,
                        bone_prior=False, acceleration_weight_3d=0.0, velocity_weight_3d=20.0, velocity_weight_2d=0.05,
-                       hinge_velocity_weight=0.0, max_iter=10, pose_prior_weight=0.0, upright_weight=0.0, limb_depth=False,
-                       smooth_2d="off")
+                       hinge_velocity_weight=0.0, max_iter=10, pose_prior_weight=0.0, upright_weight=0.0,
+                       limb_depth=False, smooth_2d="off")
     return replace(base, **overrides)
 
 

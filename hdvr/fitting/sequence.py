@@ -158,14 +158,13 @@ def fit_chunked(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray, foc
         changed = repair_limb_depth(fitter, track) if settings.limb_depth else 0
         if settings.refine_sweeps > 0:
             floor = estimate_floor(track.keypoints)
-            if settings.limb_depth and settings.refine_sweeps > 1:
-                # the arm depth is chosen again before the last sweep, on refined poses (same number of sweeps)
-                track = refine(fitter, track, settings, floor, sweeps=settings.refine_sweeps - 1, tick=tick)
+            # the arm depth is chosen again before the last sweep, on refined poses (same number of sweeps)
+            again = int(settings.limb_depth and settings.refine_sweeps > 1)
+            track = refine(fitter, track, settings, floor, sweeps=settings.refine_sweeps - again, tick=tick)
+            if again:
                 changed += repair_limb_depth(fitter, track)
                 track = refine(fitter, track, settings, floor, desc="refine (after the second arm-depth choice)",
                                sweeps=1, tick=tick)
-            else:
-                track = refine(fitter, track, settings, floor, tick=tick)
         return track, fitter.reinit_count, changed
 
     with progress(total=n * per_frame + sum(c.nominal_start - c.start for c in spans) * per_frame,
