@@ -10,7 +10,7 @@ import numpy as np
 
 from hdvr.camera import orbit_camera, project
 from hdvr.commands.fit3d import add_fit_arguments, settings_from_args
-from hdvr.fitting.ablation import settings_for
+from hdvr.fitting.ablation import markdown_table, run_ablation, settings_for
 from hdvr.fitting.presets import FitSettings
 from hdvr.io.bvh import load_mocap_body25
 from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
@@ -46,6 +46,27 @@ def test_ablate_command_writes_markdown_and_json(shared_data, tmp_path):
     assert all(np.isfinite(r["mpjpe_mm"]) and r["frames_per_second"] > 0 for r in rows)
     table = (tmp_path / "abl" / "ablation.md").read_text()
     assert "| full |" in table and "p_mpjpe_mm" in table
+
+
+def test_ablation_in_parallel_processes_gives_the_same_rows(shared_data):
+    pos, _ = load_mocap_body25(shared_data / "cmu-salsa" / "60_03_scaled.bvh", fps=30)
+    clips = []
+    for start, azimuth in ((40, 30.0), (90, 200.0)):
+        clip = pos[start:start + 20]
+        cam = orbit_camera(5.0, azimuth, 10.0, target=(*clip[:, 8, :2].mean(axis=0), 1.0))
+        gt = cam.to_camera(clip)
+        uv = project(gt, 1500.0, (960.0, 540.0))
+        kp = Keypoints2D(np.concatenate([uv, np.ones(uv.shape[:2] + (1,))], -1), BODY25_NAMES, 30.0, (1920, 1080))
+        clips.append((f"clip{start}", kp, gt))
+    base = FitSettings(focal=1500.0, workers=1)
+    serial = run_ablation(clips, ["full"], base)
+    parallel = run_ablation(clips, ["full"], base, processes=2)
+    assert [c["clip"] for c in parallel[0]["per_clip"]] == ["clip40", "clip90"]
+    for a, b in zip(serial[0]["per_clip"], parallel[0]["per_clip"]):
+        assert a["p_mpjpe_mm"] == b["p_mpjpe_mm"] and a["mpjpe_mm"] == b["mpjpe_mm"]
+    row = parallel[0]
+    assert row["p_mpjpe_mm_mean"] == np.mean([c["p_mpjpe_mm"] for c in row["per_clip"]])
+    assert "p_mpjpe_mm (mean)" in markdown_table(parallel)
 
 
 def test_fit_options_map_to_settings():

@@ -22,6 +22,8 @@ def register(subparsers) -> None:
                    help="ablations to run (default: all but paper: full no_joint_limits no_bone_prior no_temporal "
                         "no_pose_prior no_upright no_limb_depth physics)")
     p.add_argument("--out-dir", required=True, help="folder for ablation.md and ablation.json")
+    p.add_argument("--processes", type=int, default=1,
+                   help="clips fitted at once (default 1; each fit then uses one worker)")
     add_fit_arguments(p)
     p.set_defaults(func=run)
 
@@ -53,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
                                 f"got {gt.shape}")
             gt = np.asarray(gt, dtype=np.float64)
         clips.append((Path(path).stem, kp, gt))
-    rows = run_ablation(clips, names, settings_from_args(args))
+    rows = run_ablation(clips, names, settings_from_args(args), processes=max(1, args.processes))
     md, js = write_tables(rows, args.out_dir)
     print(markdown_table(rows), end="")
     print(f"wrote {md} and {js}")
