@@ -114,6 +114,9 @@ def main() -> int:
                     help="clips fitted at once for the accuracy and ablation tables (each fit then on one worker; "
                          "results are identical, their frames/s is per fit); the speed runs use every core")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--accuracy-from", default=None,
+                    help="take the accuracy and ablation rows from this earlier --out-json (same code, clips and "
+                         "options) and measure only speed and memory again, e.g. once the machine is quiet")
     ap.add_argument("--speed-only", type=float, default=None, help=argparse.SUPPRESS)
     ap.add_argument("--figures", action="store_true", help="write docs/img/fitting_skeleton.png and _error.png")
     ap.add_argument("--out-json", default=os.path.join(os.environ.get("TMPDIR", "/tmp"), "hdvr_bench_fit3d.json"),
@@ -152,10 +155,15 @@ def main() -> int:
                 settings = FitSettings(focal=focal if mode == "given" else None, random_seed=args.seed,
                                        workers=1 if args.procs > 1 else None)
                 jobs.append((kp, gt, settings, dict(clip=name, condition=condition, focal=mode, focal_true=focal)))
-    with multiprocessing.Pool(max(1, args.procs)) as pool:
-        for row in pool.imap(fit_job, jobs):
-            rows.append(row)
-            print(json.dumps({k: (round(v, 2) if isinstance(v, float) else v) for k, v in row.items()}), flush=True)
+    earlier = json.loads(Path(args.accuracy_from).read_text()) if args.accuracy_from else None
+    if earlier is not None:
+        rows = earlier["rows"]
+    else:
+        with multiprocessing.Pool(max(1, args.procs)) as pool:
+            for row in pool.imap(fit_job, jobs):
+                rows.append(row)
+                print(json.dumps({k: (round(v, 2) if isinstance(v, float) else v) for k, v in row.items()}),
+                      flush=True)
 
     # speed and memory: one-minute and two-minute clips (clean, focal given), each in a fresh process so that the
     # peak resident memory (ru_maxrss) is that fit's
@@ -168,8 +176,8 @@ def main() -> int:
         speed.append(row)
         print(json.dumps({k: (round(v, 2) if isinstance(v, float) else v) for k, v in row.items()}), flush=True)
 
-    ablation = None
-    if args.ablate:
+    ablation = None if earlier is None else earlier["ablation"]
+    if args.ablate and earlier is None:
         clips = [(n, kp, gt) for n, kp, gt, _ in clips_clean]
         ablation = run_ablation(clips, ["full", "no_joint_limits", "no_bone_prior", "no_temporal", "no_pose_prior",
                                         "no_upright", "no_limb_depth", "physics", "paper"],
@@ -267,7 +275,7 @@ def mocap_reference(mocap: dict, seconds: float) -> dict:
 
     clips = [pos[30:30 + int(seconds * 30)] for pos in mocap.values()]
     return {"foot_penetration_p95_cm": float(np.median([np.percentile(foot_penetration(c), 95) * 100 for c in clips])),
-            "foot_skating_mean_cm_s": float(np.median([foot_skating(c, 30.0, contact_m=0.05).mean() * 100
+            "foot_skating_mean_cm_s": float(np.nanmedian([foot_skating(c, 30.0, contact_m=0.05).mean() * 100
                                                        if len(foot_skating(c, 30.0, contact_m=0.05)) else np.nan
                                                        for c in clips])),
             "bone_cv_max_pct": float(np.median([max(bone_length_cv(c).values()) * 100 for c in clips])),
@@ -282,7 +290,9 @@ def markdown(summary, speed, ablation, args, reference) -> str:
              "errors in mm on EVAL_JOINTS, root-relative (MPJPE = Protocol 1, P-MPJPE = Protocol 2). "
              f"Machine: {machine()}. Command: `python3 scripts/bench_fit3d.py {' '.join(sys.argv[1:])}`. "
              "Single clips move by a few mm with any change to the fit; the means (and the P-MPJPE range over clips) "
-             "are given beside the medians.", "",
+             "are given beside the medians."
+             + (f" The accuracy and ablation tables fitted {args.procs} clips at once, each on one worker: their "
+                "frames/s is per fit; the speed table below measures speed." if args.procs > 1 else ""), "",
              "| 2D input | focal | clips | MPJPE | P-MPJPE | MPJPE (mean) | P-MPJPE (mean) | P-MPJPE range | N-MPJPE | "
              "MPJVE | accel err | reproj px | "
              "foot pen. p95 cm | skating cm/s | self-pen. % frames | limit viol. | bone CV % | jitter m/s^3 | "
