@@ -67,12 +67,16 @@ class PoseSelector:
     def __init__(self, num_dancers: int, config: SelectionConfig | None = None):
         self.config = config or SelectionConfig()
         self.histograms: list[np.ndarray | None] = [None] * num_dancers
+        # per dancer, after :meth:`select`: how much better the chosen pose's score is for this dancer than for
+        # any other dancer (inf when no other dancer could take it; None when no pose was chosen)
+        self.margins: list[float | None] = [None] * num_dancers
 
     def select(self, frame_bgr: np.ndarray, boxes, poses: list[PersonPose]) -> list[PersonPose | None]:
         """For each dancer's tracked box (x, y, w, h) px, its pose among ``poses``, or None."""
         c = self.config
         n = len(boxes)
         chosen: list[PersonPose | None] = [None] * n
+        self.margins = [None] * n
         if not poses:
             return chosen
         hists = [pose_histogram(frame_bgr, p) for p in poses]
@@ -98,6 +102,9 @@ class PoseSelector:
         for i, k in zip(rows, cols):
             if np.isfinite(score[i, k]):
                 chosen[i] = poses[k]
+                rivals = np.delete(score[:, k], i)
+                rivals = rivals[np.isfinite(rivals)]
+                self.margins[i] = float(score[i, k] - rivals.max()) if rivals.size else float("inf")
                 h = hists[k]
                 if h is not None:
                     old = self.histograms[i]

@@ -26,6 +26,10 @@ restarts; after ``long_lost_detections`` such frames the box's own match no long
 follows the detections for ``recovery_frames``. Its stored histogram is only updated on frames where no
 detection is missing on its box.
 
+After Algorithm 2* has chosen each dancer's pose on a detector frame, :meth:`MultiDancerTracker.extend_to_poses`
+lets the *reported* box reach as far as a clearly chosen pose does beyond the tracked box (spread arms of a dancer
+in a group, whose tracked box keeps the size it had when clear); the tracking itself does not use it.
+
 A dancer whose box leaves the frame is *out* (no box) until it comes back: on a detection, or without one on the
 strip at the left or right edge it left by, when that strip matches its memory clearly better than the empty edge
 did (:meth:`MultiDancerTracker._reenter_at_edge`).
@@ -42,6 +46,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from hdvr.pose2d.selection import skeleton_mask
 from hdvr.tracking.appearance import box_iou, box_overlap, colour_histogram, histogram_similarity
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
 
@@ -100,6 +105,13 @@ class MultiTrackerConfig:
     # (mean of the IoU and the IoU of the vertical extents: spread arms change the width, not the height)
     group_margin: float = 0.15  # ... and fits every other dancer by this much less
     group_adaptation: float = 0.5  # per such detection, weight of the detected box in the dancer's box
+    pose_extent: bool = True  # the reported box of a dancer extends to the box of the pose Algorithm 2* chose for
+    # it where that reaches further (spread arms), when the choice is clear (:meth:`MultiDancerTracker.extend_to_poses`)
+    pose_margin: float = 0.2  # ... the pose's selection score better by this for the dancer than for any other
+    pose_max_height: float = 1.2  # ... the pose's box at most this much taller than the dancer's box
+    pose_stack_overlap: float = 0.7  # ... and no dancer without a pose of its own stands straight behind or in front
+    # (body cores overlapping more than this, intersection / smaller): a limb beside them may be either's
+    pose_adaptation: float = 0.5  # ... by this fraction of the way per detector frame
     out_fraction: float = 0.35  # a box with less than this fraction of its area in the frame is out of it
     edge_reentry: bool = True  # a dancer who left on the left or right is re-identified on a strip at that edge
     # whose histogram matches its memory (:meth:`_reenter_at_edge`); works without a detector
@@ -129,6 +141,10 @@ class DancerTrack:
     recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
     size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
     exit_side: str | None = None  # "left" or "right": the frame edge the dancer left by (None: another or none)
+    growth: np.ndarray = field(default_factory=lambda: np.zeros(4))  # px the reported box extends beyond ``box``
+    # on the left, top, right and bottom (:meth:`MultiDancerTracker.extend_to_poses`)
+    last_status: str = TRACKED  # status in the frame before
+    adapted_at: int = -1  # last frame in which the box adapted to a detection while clear
     edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
 
     @property
@@ -205,9 +221,17 @@ class MultiDancerTracker:
         """Boxes of this frame, clipped to the frame (px); NaN for dancers out of the frame."""
         if not self.dancers:
             return FrameResult(self.frame_index, np.zeros((0, 4)), (), np.zeros(0))
-        boxes = np.array([self._clipped(d.box) if d.status != OUT else (np.nan,) * 4 for d in self.dancers], float)
+        boxes = np.array([self._clipped(self._reported(d)) if d.status != OUT else (np.nan,) * 4
+                          for d in self.dancers], float)
         return FrameResult(self.frame_index, boxes, tuple(d.status for d in self.dancers),
                            np.array([d.confidence if d.status != OUT else 0.0 for d in self.dancers], float))
+
+    @staticmethod
+    def _reported(d: DancerTrack) -> tuple[float, float, float, float]:
+        """The box written for dancer ``d``: its tracked box extended by its growth (:meth:`extend_to_poses`)."""
+        gl, gt, gr, gb = d.growth
+        x, y, w, h = d.box
+        return (x - gl, y - gt, w + gl + gr, h + gt + gb)
 
     def _clipped(self, box) -> tuple[float, float, float, float]:
         """The part of ``box`` inside the frame (px); the box itself if nothing of it is inside."""
@@ -326,6 +350,7 @@ class MultiDancerTracker:
                 elif len(matches) == 1 and box_iou(d.box, matches[0]) > c.adapt_min_iou and \
                         self._single_person(d, matches[0]):
                     self._adapt_box(d, frame, matches[0])
+                    d.adapted_at = t
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
                     continue
@@ -377,6 +402,10 @@ class MultiDancerTracker:
         # 5. dancers out of the frame: re-identified when they come back
         self._reenter(frame, detections)
         self._reenter_at_edge(frame)
+        for d in self.dancers:  # a box taken elsewhere or out of the frame starts without growth
+            if d.status == OUT or d.status != d.last_status:
+                d.growth = np.zeros(4)
+            d.last_status = d.status
         return self.result()
 
     def _leaves_frame(self, d: DancerTrack, frame, t: int) -> bool:
@@ -604,6 +633,68 @@ class MultiDancerTracker:
             if not 1 / c.max_height_change <= dets[k][3] / d.box[3] <= c.max_height_change:
                 continue
             self._adapt_box(d, frame, dets[k], c.group_adaptation, retrack=False)
+
+    def extend_to_poses(self, frame, poses, margins) -> FrameResult:
+        """Box extent from the poses Algorithm 2* chose (called after it, on detector frames).
+
+        ``poses[i]``: the pose (:class:`hdvr.pose2d.base.PersonPose`) chosen for dancer i in ``frame`` (None if
+        none); ``margins[i]``: how much better its selection score was for dancer i than for any other dancer.
+        A dancer's tracked box keeps its size while it overlaps others, and while clear it adapts only to a
+        detection it overlaps well (IoU > ``adapt_min_iou``); a dancer who spreads its arms meanwhile is wider than
+        that box. The *reported* box of a tracked or occluded dancer therefore grows on each side where the chosen
+        pose's box (scaled by the dancer's box-to-detector size ratio) and its limbs reach beyond the tracked box,
+        by ``pose_adaptation`` of the way per detector frame, when:
+
+        - the choice is clear: margin at least ``pose_margin``;
+        - the pose's box fits the dancer (:meth:`_fit_score` >= ``group_min_score``) and is at most
+          ``pose_max_height`` x as tall (a taller one holds more than this dancer);
+        - no other dancer without a pose of its own stands straight behind or in front of this one (body cores
+          overlapping more than ``pose_stack_overlap``): YOLO attaches the arm of a dancer behind to the skeleton
+          of the one in front, so a limb beside the pair may be either's;
+        - the box did not adapt to a detection in this frame anyway (a clear dancer).
+
+        Elsewhere the growth shrinks by that fraction. The box never shrinks below the tracked box (in a group a
+        detection shows the visible part, which the dancer in front may cut), and the growth changes only the
+        reported box, not the tracking (overlaps, histograms, failure tests, relocation). Returns the frame's
+        result with the reported boxes."""
+        c = self.config
+        if not c.pose_extent:
+            return self.result()
+        a = c.pose_adaptation
+        size = (frame.shape[1], frame.shape[0])
+        for i, d in enumerate(self.dancers):
+            if d.status == OUT:
+                continue
+            target = np.zeros(4)
+            pose = poses[i] if i < len(poses) else None
+            if pose is not None and self._pose_extends(d, pose, margins[i], poses):
+                ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
+                det = _box_at(_centre(pose.box), (0.0, 0.0, *(np.asarray(pose.box[2:], float) * ratio)))
+                x, y, w, h = d.box
+                reach = np.maximum(0.0, [x - det[0], y - det[1], det[0] + det[2] - x - w, det[1] + det[3] - y - h])
+                strips = [(det[0], det[1], reach[0], det[3]), (det[0], det[1], det[2], reach[1]),
+                          (x + w, det[1], reach[2], det[3]), (det[0], y + h, det[2], reach[3])]
+                keypoints = pose.body25()
+                for side, strip in enumerate(strips):
+                    if reach[side] >= 1:  # a limb of the skeleton reaches into the strip beyond the box
+                        mask = skeleton_mask(keypoints, strip, size)
+                        if mask is not None and mask.any():
+                            target[side] = reach[side]
+            d.growth = (1 - a) * d.growth + a * target
+        return self.result()
+
+    def _pose_extends(self, d: DancerTrack, pose, margin, poses) -> bool:
+        """Whether ``pose``, chosen for dancer ``d`` with selection ``margin``, may extend its reported box (the
+        conditions of :meth:`extend_to_poses`)."""
+        c = self.config
+        if margin is None or margin < c.pose_margin or d.adapted_at == self.frame_index:
+            return False
+        if self._fit_score(d.box, pose.box) < c.group_min_score or \
+                not 1 / c.max_height_change <= pose.box[3] / d.box[3] <= c.pose_max_height:
+            return False
+        return not any(o is not d and o.status != OUT and (j >= len(poses) or poses[j] is None)
+                       and self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap
+                       for j, o in enumerate(self.dancers))
 
     @staticmethod
     def _fit_velocity(track, max_speed: float = np.inf) -> np.ndarray:

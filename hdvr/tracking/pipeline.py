@@ -210,9 +210,13 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             kp[..., 2] = 0
             if run_detector:
                 tic = time.perf_counter()
-                for i, pose in enumerate(selector.select(frame, result.boxes, people)):
+                chosen = selector.select(frame, result.boxes, people)
+                for i, pose in enumerate(chosen):
                     if pose is not None:
                         kp[i] = pose.body25()
+                if tracker is not None:  # reported boxes reach as far as the poses clearly chosen for them
+                    k = len(tracker.dancers)
+                    result = _pad(tracker.extend_to_poses(frame, chosen[:k], selector.margins[:k]), n)
                 last_kp, last_kp_boxes = kp, result.boxes.copy()
                 stage["select"] += time.perf_counter() - tic
             if writer is not None:

@@ -1,0 +1,124 @@
+"""Box extent from the poses Algorithm 2* chose (:meth:`MultiDancerTracker.extend_to_poses`): a dancer who spreads
+its arms while overlapping another gets a box that covers them; ambiguous poses change nothing."""
+
+import cv2
+import numpy as np
+
+from hdvr.pose2d.base import PersonPose
+from hdvr.tracking.multi import MultiDancerTracker, MultiTrackerConfig
+
+H, W = 480, 640
+
+
+def _figure(frame, cx, top, height, colour, arm_span):
+    """Draw a figure (head, torso, legs, arms) of ``height`` px whose wrists are ``arm_span`` px apart; returns its
+    COCO-17 keypoints (17, 3)."""
+    u = height / 8.0
+    head = (cx, top + 0.5 * u)
+    sh_l, sh_r = (cx + 0.8 * u, top + 1.5 * u), (cx - 0.8 * u, top + 1.5 * u)
+    hip_l, hip_r = (cx + 0.5 * u, top + 4 * u), (cx - 0.5 * u, top + 4 * u)
+    knee_l, knee_r = (cx + 0.6 * u, top + 6 * u), (cx - 0.6 * u, top + 6 * u)
+    ank_l, ank_r = (cx + 0.6 * u, top + 8 * u), (cx - 0.6 * u, top + 8 * u)
+    wr_l, wr_r = (cx + arm_span / 2, top + 2.2 * u), (cx - arm_span / 2, top + 2.2 * u)
+    el_l, el_r = ((sh_l[0] + wr_l[0]) / 2, top + 1.9 * u), ((sh_r[0] + wr_r[0]) / 2, top + 1.9 * u)
+    pts = lambda *p: np.array(p, np.int32)  # noqa: E731
+    cv2.circle(frame, tuple(int(v) for v in head), int(0.5 * u), colour, -1)
+    cv2.fillPoly(frame, [pts(sh_l, sh_r, hip_r, hip_l)], colour)
+    for a, b in ((hip_l, knee_l), (knee_l, ank_l), (hip_r, knee_r), (knee_r, ank_r), (sh_l, el_l), (el_l, wr_l),
+                 (sh_r, el_r), (el_r, wr_r)):
+        cv2.line(frame, tuple(int(v) for v in a), tuple(int(v) for v in b), colour, max(2, int(0.35 * u)))
+    named = [head, head, head, head, head, sh_l, sh_r, el_l, el_r, wr_l, wr_r, hip_l, hip_r, knee_l, knee_r, ank_l,
+             ank_r]
+    return np.array([[x, y, 0.9] for x, y in named], np.float32)
+
+
+def _pose(keypoints, score=0.9):
+    xy = keypoints[:, :2]
+    x0, y0 = xy.min(axis=0) - 4
+    x1, y1 = xy.max(axis=0) + 4
+    return PersonPose(keypoints, (float(x0), float(y0), float(x1 - x0), float(y1 - y0)), score)
+
+
+def _scene(arm_span, second_cx=360.0):
+    frame = np.full((H, W, 3), (60, 120, 60), np.uint8)
+    kp_a = _figure(frame, 300.0, 120.0, 280.0, (40, 40, 220), arm_span)
+    kp_b = _figure(frame, second_cx, 130.0, 270.0, (220, 120, 40), 60.0)
+    return frame, kp_a, kp_b
+
+
+def _tracker(second_cx=360.0):
+    frame, _, _ = _scene(60.0, second_cx)
+    # arms-down boxes, as when the dancers were clear; their body cores overlap (a group)
+    return frame, MultiDancerTracker(frame, [(262.0, 116.0, 76.0, 288.0), (second_cx - 37, 126.0, 74.0, 278.0)])
+
+
+def test_box_grows_to_cover_spread_arms_in_a_group():
+    frame, tracker = _tracker()
+    assert tracker._overlapping(0, [d.box for d in tracker.dancers]), "the two dancers form a group"
+    tracked = tracker.dancers[0].box
+    frame, kp_a, kp_b = _scene(arm_span=220.0)
+    for _ in range(4):  # four detector frames with the arms spread
+        result = tracker.extend_to_poses(frame, [_pose(kp_a), _pose(kp_b)], [0.6, 0.6])
+    x, y, w, h = result.boxes[0]
+    wrists = kp_a[[9, 10], 0]
+    assert x <= wrists.min() + 10 and x + w >= wrists.max() - 10, (result.boxes[0], wrists)
+    assert tracker.dancers[0].box == tracked  # the tracking box itself is unchanged
+    assert abs(h - tracked[3]) < 2 and abs(y - tracked[1]) < 2  # arms out: width, not height
+    # the second dancer, arms down, keeps its box
+    np.testing.assert_allclose(result.boxes[1], tracker.dancers[1].box, atol=1e-6)
+    # arms down again: the growth goes back
+    frame, kp_a, kp_b = _scene(arm_span=60.0)
+    for _ in range(6):
+        result = tracker.extend_to_poses(frame, [_pose(kp_a), _pose(kp_b)], [0.6, 0.6])
+    assert result.boxes[0][2] < tracked[2] + 10
+
+
+def test_no_growth_from_an_ambiguous_pose():
+    frame, kp_a, kp_b = _scene(arm_span=220.0)
+    # the pose fits the other dancer almost as well as this one (margin below pose_margin)
+    _, tracker = _tracker()
+    result = tracker.extend_to_poses(frame, [_pose(kp_a), _pose(kp_b)], [0.05, 0.6])
+    np.testing.assert_allclose(result.boxes[0], tracker.dancers[0].box, atol=1e-6)
+    # a dancer straight behind this one that got no pose of its own: the spread arms may be its
+    _, stacked = _tracker(second_cx=305.0)
+    result = stacked.extend_to_poses(frame, [_pose(kp_a), None], [0.6, None])
+    np.testing.assert_allclose(result.boxes[0], stacked.dancers[0].box, atol=1e-6)
+    # a pose box much taller than the dancer holds more than this dancer
+    _, tall = _tracker()
+    big = _pose(kp_a)
+    big = PersonPose(big.keypoints, (big.box[0], big.box[1] - 120, big.box[2], big.box[3] + 120), big.score)
+    result = tall.extend_to_poses(frame, [big, _pose(kp_b)], [0.6, 0.6])
+    np.testing.assert_allclose(result.boxes[0], tall.dancers[0].box, atol=1e-6)
+    # switched off
+    _, off = _tracker()
+    off.config = MultiTrackerConfig(pose_extent=False)
+    result = off.extend_to_poses(frame, [_pose(kp_a), _pose(kp_b)], [0.6, 0.6])
+    np.testing.assert_allclose(result.boxes[0], off.dancers[0].box, atol=1e-6)
+
+
+def test_growth_is_dropped_when_the_dancer_leaves():
+    frame, tracker = _tracker()
+    frame, kp_a, kp_b = _scene(arm_span=220.0)
+    tracker.extend_to_poses(frame, [_pose(kp_a), _pose(kp_b)], [0.6, 0.6])
+    d = tracker.dancers[0]
+    assert d.growth.sum() > 20
+    d.status = "out"  # e.g. walked out of the frame: when it comes back its box starts without the old growth
+    tracker.step(frame)
+    assert d.growth.sum() == 0 and np.isnan(tracker.result().boxes[0]).all()
+
+
+def test_selection_margin_tells_a_clear_choice_from_an_ambiguous_one():
+    """Algorithm 2* reports how much better each chosen pose scores for its dancer than for any other: high for a
+    pose only one dancer's colours match, infinite for one no other dancer can take."""
+    from hdvr.pose2d.selection import PoseSelector
+
+    frame, kp_a, kp_b = _scene(arm_span=60.0)
+    boxes = [(262.0, 116.0, 76.0, 288.0), (323.0, 126.0, 74.0, 278.0)]
+    selector = PoseSelector(2)
+    selector.select(frame, boxes, [_pose(kp_a), _pose(kp_b)])  # first frame: box overlap decides, histograms kept
+    chosen = selector.select(frame, boxes, [_pose(kp_a), _pose(kp_b)])
+    assert chosen[0].keypoints is not None and np.allclose(chosen[0].keypoints, kp_a)
+    assert all(m is not None and m > 0.3 for m in selector.margins), selector.margins  # red vs orange clothes
+    far = [(262.0, 116.0, 76.0, 288.0), (560.0, 126.0, 60.0, 278.0)]  # the second box overlaps no pose
+    selector.select(frame, far, [_pose(kp_a)])
+    assert selector.margins == [float("inf"), None]
