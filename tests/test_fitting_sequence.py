@@ -10,12 +10,14 @@ import sys
 import numpy as np
 import pytest
 
+from hdvr.camera import orbit_camera, project
 from hdvr.errors import HDVRError
 from hdvr.fitting.calibration import bones_from_projections
 from hdvr.fitting.kinematics import DancerKinematics
-from hdvr.fitting.presets import FitSettings, paper_settings
 from hdvr.fitting.limits import apply_ranges
-from hdvr.fitting.sequence import calibrate_dancer, fit_keypoints, observation_weights
+from hdvr.fitting.presets import FitSettings, paper_settings
+from hdvr.fitting.sequence import calibrate_dancer, clip_vertical, fit_keypoints, observation_weights
+from hdvr.io.bvh import load_mocap_body25
 from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
 from hdvr.io.result3d import load_result3d
 from hdvr.layouts import BODY25_NAMES, COCO17_NAMES, convert
@@ -67,11 +69,6 @@ def test_clip_vertical_comes_from_a_track_with_the_dancers_own_bones(shared_data
     """Salsa 60_06 seen level from 8 m (the benchmark's camera for that clip): with the table's mean proportions
     the quick track leans the trunk and its mean trunk direction is 17 deg from the true vertical; refitted with
     the calibrated bones it is 7 deg."""
-    from hdvr.camera import orbit_camera, project
-    from hdvr.fitting.sequence import clip_vertical
-    from hdvr.io.bvh import load_mocap_body25
-    from hdvr.fitting.calibration import stature_scaled_bones
-
     pos, _ = load_mocap_body25(shared_data / "cmu-salsa" / "60_06_scaled.bvh", fps=30)
     clip = pos[30:330]
     cam = orbit_camera(7.984, 256.69, 1.468, target=(*np.nanmean(clip[:, 8, :2], axis=0), 1.0))
@@ -83,7 +80,6 @@ def test_clip_vertical_comes_from_a_track_with_the_dancers_own_bones(shared_data
     skeleton = Skeleton()
     apply_ranges(skeleton, settings.joint_ranges)
     kin = DancerKinematics(skeleton)
-    kin.set_bone_lengths(stature_scaled_bones(kin, settings.height_m))
     cal = calibrate_dancer(kin, obs, weights, 1955.2, np.array(PP), settings, estimate_focal=False)
     assert np.allclose(kin.bone_lengths, cal.bone_lengths) and cal.focal == 1955.2
     error_deg = np.degrees(np.arccos(np.clip(cal.vertical @ true_up, -1, 1)))

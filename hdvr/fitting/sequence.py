@@ -235,6 +235,7 @@ def calibrate_dancer(kin: DancerKinematics, obs: np.ndarray, weights: np.ndarray
     error 4.1 -> 3.2 deg on average, 17 -> 7 deg on the worst clip)."""
     span = min(len(obs), CALIBRATION_SPAN)
     quick = FitSettings(**{**settings.to_dict(), "seeds": 1, "refine_sweeps": 0, "focal_per_window": False})
+    kin.set_bone_lengths(stature_scaled_bones(kin, settings.height_m))
     track0 = WindowFitter(kin, obs[:span], weights[:span], focal, pp, quick, False).fit(desc="calibrate")
     bones = bones_from_projections(kin, obs[:span], weights[:span], track0.keypoints, focal, settings.height_m)
     if estimate_focal or settings.bone_method == "least_squares":
