@@ -2,10 +2,17 @@
 on HDVR's own synthetic choreographies (:mod:`hdvr.synth`, all genres; no real 3D data). Deterministic by seed.
 
     python3 scripts/build_pose_prior.py [--clips-per-genre 24] [--seconds 20] [--components 12] [--seed 0]
+                                        [--covariance-floor-deg 6]
 
 Hinges whose synthetic range is narrower than the fitting range (the anatomical widening of
 :mod:`hdvr.fitting.limits`: elbow and trunk flexion; the synthetic dancer keeps the paper's bounds there) are
 marginalised out: the prior says nothing about them rather than pull them back into the paper's range.
+
+Every component's covariance gets ``(covariance floor)^2`` added to its diagonal, inside EM. The generator barely
+moves some hinges that real dancers do move (hip rotation and adduction: 4-8 deg standard deviation over all
+poses, ankle inversion 1.5 deg; salsa dancers turn the hips out by about 10 deg and invert the ankles by 10-20):
+without a floor the prior pins them at the generator's neutral angle within 2 deg and the fit bends the legs in
+depth to make up for it (docs/fitting.md, "Learned pose prior").
 """
 
 from __future__ import annotations
@@ -87,13 +94,16 @@ def main() -> None:
     ap.add_argument("--every", type=int, default=3, help="keep every n-th frame")
     ap.add_argument("--components", type=int, default=12)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--covariance-floor-deg", type=float, default=6.0,
+                    help="standard deviation (deg) added in quadrature to every hinge of every component")
     ap.add_argument("--out", default=str(OUT))
     args = ap.parse_args()
     clock = time.process_time()
     hinges = synthetic_hinges(args.clips_per_genre, args.seconds, args.seed, args.every)
     free = np.array([dh.JOINT_NAMES.index(name) for name in ANATOMICAL_WIDENING])
     kept = np.setdiff1d(np.arange(hinges.shape[1]), free)
-    weights, means, covs = fit_gmm(hinges[:, kept], args.components, args.seed)
+    weights, means, covs = fit_gmm(hinges[:, kept], args.components, args.seed,
+                                   reg=np.deg2rad(args.covariance_floor_deg) ** 2)
     k, d = len(weights), hinges.shape[1]
     mean_full = np.zeros((k, d))
     sqrt_precision = np.zeros((k, d, d))  # rows: L_k^T restricted to the kept hinges, zero columns elsewhere
@@ -108,7 +118,8 @@ def main() -> None:
                         weights=weights, kept=kept,
                         source=np.array(f"hdvr synth, {args.clips_per_genre} clips per genre x {args.seconds} s, "
                                         f"all genres, seed {args.seed}, every {args.every} frames, "
-                                        f"{len(hinges)} poses, {k} components"))
+                                        f"{len(hinges)} poses, {k} components, covariance floor "
+                                        f"{args.covariance_floor_deg:g} deg"))
     print(f"{len(hinges)} poses, {k} components, mean log-likelihood "
           f"{np.logaddexp.reduce(component_loglik(hinges[:, kept], weights, means, covs), axis=1).mean():.1f}, "
           f"{time.process_time() - clock:.1f} s CPU -> {args.out}")
