@@ -187,3 +187,17 @@ def test_no_pixel_growth_onto_the_arm_of_a_dancer_beside():
         result = tracker.extend_to_poses(frame, [None, None], [None, None])
     np.testing.assert_allclose(result.boxes[0], boxes[0], atol=1e-6)
     assert result.boxes[1][0] < 300 + 10, result.boxes[1]
+
+
+def test_no_pixel_growth_onto_a_background_patch_next_to_the_box():
+    """A background colour that shows only beside the dancer (inside the margin around its box, so not in the
+    background sample) is foreground too; columns more than ``pixel_max_fill`` foreground stop the run there."""
+    frame = _arms_scene(60.0)
+    tracker = MultiDancerTracker(frame, [(162.0, 106.0, 76.0, 288.0)])
+    frame[100:330, 240:300] = (0, 200, 200)  # e.g. a door or a wall corner right beside the dancer
+    for _ in range(4):
+        result = tracker.extend_to_poses(frame, [None], [None])
+    np.testing.assert_allclose(result.boxes[0], (162.0, 106.0, 76.0, 288.0), atol=1e-6)
+    loose = MultiDancerTracker(_arms_scene(60.0), [(162.0, 106.0, 76.0, 288.0)], MultiTrackerConfig(pixel_max_fill=1.1))
+    result = loose.extend_to_poses(frame, [None], [None])
+    assert result.boxes[0][2] > 76 + 20, result.boxes[0]  # without the rule the box grows onto it
