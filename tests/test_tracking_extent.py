@@ -46,10 +46,12 @@ def _scene(arm_span, second_cx=360.0):
     return frame, kp_a, kp_b
 
 
-def _tracker(second_cx=360.0):
+def _tracker(second_cx=360.0, pixel_extent=False):
+    """Two dancers whose body cores overlap (a group), with arms-down boxes as when they were clear. The box extent
+    from foreground pixels is off unless asked for: these tests are about the poses' extent."""
     frame, _, _ = _scene(60.0, second_cx)
-    # arms-down boxes, as when the dancers were clear; their body cores overlap (a group)
-    return frame, MultiDancerTracker(frame, [(262.0, 116.0, 76.0, 288.0), (second_cx - 37, 126.0, 74.0, 278.0)])
+    return frame, MultiDancerTracker(frame, [(262.0, 116.0, 76.0, 288.0), (second_cx - 37, 126.0, 74.0, 278.0)],
+                                     MultiTrackerConfig(pixel_extent=pixel_extent))
 
 
 def test_box_grows_to_cover_spread_arms_in_a_group():
@@ -91,7 +93,7 @@ def test_no_growth_from_an_ambiguous_pose():
     np.testing.assert_allclose(result.boxes[0], tall.dancers[0].box, atol=1e-6)
     # switched off
     _, off = _tracker()
-    off.config = MultiTrackerConfig(pose_extent=False)
+    off.config = MultiTrackerConfig(pose_extent=False, pixel_extent=True)  # switches both off
     result = off.extend_to_poses(frame, [_pose(kp_a), _pose(kp_b)], [0.6, 0.6])
     np.testing.assert_allclose(result.boxes[0], off.dancers[0].box, atol=1e-6)
 
@@ -122,3 +124,80 @@ def test_selection_margin_tells_a_clear_choice_from_an_ambiguous_one():
     far = [(262.0, 116.0, 76.0, 288.0), (560.0, 126.0, 60.0, 278.0)]  # the second box overlaps no pose
     selector.select(frame, far, [_pose(kp_a)])
     assert selector.margins == [float("inf"), None]
+
+
+def _arms_scene(span_a, b_wrist=None):
+    """A textured floor and wall; figure A (blue, cx 200) with wrists ``span_a`` px apart; with ``b_wrist`` (x px)
+    also figure B (orange, cx 440, level with A, arms down) reaching its right arm out to that x."""
+    frame = np.full((H, W, 3), (70, 150, 190), np.uint8)  # wall
+    frame[250:] = (90, 90, 90)  # floor
+    frame[250::24] = (130, 130, 130)  # floor lines (background texture)
+    _figure(frame, 200.0, 110.0, 280.0, (200, 60, 40), span_a)
+    if b_wrist is not None:
+        kp = _figure(frame, 440.0, 110.0, 280.0, (40, 110, 230), 40.0)
+        cv2.line(frame, tuple(int(v) for v in kp[6, :2]), (int(b_wrist), 190), (40, 110, 230), 12)
+    return frame
+
+
+def test_foreground_mask_marks_colours_rare_around_the_dancers():
+    from hdvr.tracking.appearance import foreground_mask
+
+    frame = _arms_scene(200.0)
+    fg = foreground_mask(frame, [(162.0, 106.0, 76.0, 288.0)], margin=(0.3, 0.3))
+    assert fg is not None and fg.shape == (H, W)
+    assert fg[180, 280] and fg[180, 120], "both spread arms are foreground"
+    assert fg[200, 200], "so is the torso"
+    assert not fg[50, 200] and not fg[400, 500] and not fg[274, 500], "wall, floor and floor lines are not"
+    # boxes covering almost the whole frame leave too little background to tell
+    assert foreground_mask(frame, [(0.0, 0.0, 600.0, 480.0)]) is None
+
+
+def test_box_grows_over_the_foreground_of_spread_arms():
+    frame = _arms_scene(60.0)
+    tracker = MultiDancerTracker(frame, [(162.0, 106.0, 76.0, 288.0)])  # arms-down box
+    frame = _arms_scene(200.0)  # the arms spread; no pose for the dancer (the detector left them out)
+    for _ in range(5):
+        result = tracker.extend_to_poses(frame, [None], [None])
+    x, y, w, h = result.boxes[0]
+    assert x <= 100 + 10 and x + w >= 300 - 10, result.boxes[0]  # the wrists are at 100 and 300
+    assert abs(y - 106) < 1 and abs(h - 288) < 1  # sideways only
+    assert tracker.dancers[0].box == (162.0, 106.0, 76.0, 288.0)  # the tracked box itself is unchanged
+    # arms down again: the growth goes back
+    frame = _arms_scene(60.0)
+    for _ in range(8):
+        result = tracker.extend_to_poses(frame, [None], [None])
+    assert result.boxes[0][2] < 76 + 6
+    # switched off: nothing grows
+    off = MultiDancerTracker(frame, [(162.0, 106.0, 76.0, 288.0)], MultiTrackerConfig(pixel_extent=False))
+    result = off.extend_to_poses(_arms_scene(200.0), [None], [None])
+    np.testing.assert_allclose(result.boxes[0], (162.0, 106.0, 76.0, 288.0))
+
+
+def test_no_pixel_growth_onto_the_arm_of_a_dancer_beside():
+    """An arm that runs from one dancer's body to the body of a dancer level with it may be either's: neither box
+    grows onto it. Free of the other dancer, the arm extends its own dancer's box."""
+    boxes = [(162.0, 106.0, 76.0, 288.0), (402.0, 106.0, 76.0, 288.0)]
+    tracker = MultiDancerTracker(_arms_scene(60.0, b_wrist=420.0), boxes)
+    frame = _arms_scene(60.0, b_wrist=215.0)  # B's arm reaches into A's box
+    for _ in range(5):
+        result = tracker.extend_to_poses(frame, [None, None], [None, None])
+    np.testing.assert_allclose(result.boxes, boxes, atol=1e-6)
+    frame = _arms_scene(60.0, b_wrist=300.0)  # 62 px short of A's box
+    for _ in range(5):
+        result = tracker.extend_to_poses(frame, [None, None], [None, None])
+    np.testing.assert_allclose(result.boxes[0], boxes[0], atol=1e-6)
+    assert result.boxes[1][0] < 300 + 10, result.boxes[1]
+
+
+def test_no_pixel_growth_onto_a_background_patch_next_to_the_box():
+    """A background colour that shows only beside the dancer (inside the margin around its box, so not in the
+    background sample) is foreground too; columns more than ``pixel_max_fill`` foreground stop the run there."""
+    frame = _arms_scene(60.0)
+    tracker = MultiDancerTracker(frame, [(162.0, 106.0, 76.0, 288.0)])
+    frame[100:330, 240:300] = (0, 200, 200)  # e.g. a door or a wall corner right beside the dancer
+    for _ in range(4):
+        result = tracker.extend_to_poses(frame, [None], [None])
+    np.testing.assert_allclose(result.boxes[0], (162.0, 106.0, 76.0, 288.0), atol=1e-6)
+    loose = MultiDancerTracker(_arms_scene(60.0), [(162.0, 106.0, 76.0, 288.0)], MultiTrackerConfig(pixel_max_fill=1.1))
+    result = loose.extend_to_poses(frame, [None], [None])
+    assert result.boxes[0][2] > 76 + 20, result.boxes[0]  # without the rule the box grows onto it

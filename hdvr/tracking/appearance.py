@@ -74,3 +74,35 @@ def box_overlap(a, b) -> float:
     iy = max(0.0, min(a[1] + a[3], b[1] + b[3]) - max(a[1], b[1]))
     smaller = min(a[2] * a[3], b[2] * b[3])
     return float(ix * iy / smaller) if smaller > 0 else 0.0
+
+
+def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: float = 1e-4,
+                    min_background: float = 0.1, opening: int = 3) -> np.ndarray | None:
+    """bool mask (frame height, width) of the pixels whose colour is rare in the background: the background is
+    every pixel outside ``boxes`` (x, y, w, h px, NaN rows ignored), each widened by ``margin`` = (sideways, up and
+    down) x its height on each side (a dancer's spread arms reach beyond its box); a pixel is foreground when the
+    fraction of background pixels in its colour bin (16 levels per BGR channel) is below ``rarity``. An opening
+    (``opening`` x ``opening`` px square) removes thinner specks and lines. None when less than ``min_background``
+    of the frame is background (too little to tell). Needs no frame history, so it works with a moving camera, as
+    long as the dancers' clothes and skin differ in colour from the floor and walls around them.
+
+    The 4096-bin colour histogram is counted and looked up with numpy (``np.bincount`` and a uint8 table): OpenCV's
+    ``calcBackProject`` returned an all-zero image for a normalised 3-D float histogram here (OpenCV 5.0)."""
+    h, w = frame_bgr.shape[:2]
+    background = np.ones((h, w), bool)
+    for box in boxes:
+        x, y, bw, bh = (float(v) for v in box)
+        if not np.isfinite([x, y, bw, bh]).all():
+            continue
+        mx, my = margin[0] * bh, margin[1] * bh
+        r = clip_box((x - mx, y - my, bw + 2 * mx, bh + 2 * my), (w, h))
+        if r is not None:
+            background[r[1]:r[3], r[0]:r[2]] = False
+    count = int(background.sum())
+    if count < min_background * h * w:
+        return None
+    q = (frame_bgr >> 4).astype(np.uint16)
+    index = (q[..., 0] << 8) | (q[..., 1] << 4) | q[..., 2]
+    rare = (np.bincount(index[background], minlength=4096) < rarity * count).astype(np.uint8)
+    fg = rare[index]
+    return cv2.morphologyEx(fg, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_RECT, (opening, opening))) > 0

@@ -28,7 +28,8 @@ detection is missing on its box.
 
 After Algorithm 2* has chosen each dancer's pose on a detector frame, :meth:`MultiDancerTracker.extend_to_poses`
 lets the *reported* box reach as far as a clearly chosen pose does beyond the tracked box (spread arms of a dancer
-in a group, whose tracked box keeps the size it had when clear); the tracking itself does not use it.
+in a group, whose tracked box keeps the size it had when clear), and sideways as far as foreground pixels run on
+from it at arm height (arms the detector left out); the tracking itself does not use it.
 
 A dancer whose box leaves the frame is *out* (no box) until it comes back: on a detection, or without one on the
 strip at the left or right edge it left by, when that strip matches its memory clearly better than the empty edge
@@ -47,7 +48,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from hdvr.pose2d.selection import skeleton_mask
-from hdvr.tracking.appearance import box_iou, box_overlap, colour_histogram, histogram_similarity
+from hdvr.tracking.appearance import box_iou, box_overlap, colour_histogram, foreground_mask, histogram_similarity
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
 
 TRACKED, OCCLUDED, OUT = "tracked", "occluded", "out"
@@ -112,6 +113,19 @@ class MultiTrackerConfig:
     pose_stack_overlap: float = 0.7  # ... and no dancer without a pose of its own stands straight behind or in front
     # (body cores overlapping more than this, intersection / smaller): a limb beside them may be either's
     pose_adaptation: float = 0.5  # ... by this fraction of the way per detector frame
+    pixel_extent: bool = True  # ... and sideways as far as foreground pixels (colours rare in the background
+    # around the dancers) run on from the box at arm height (:meth:`MultiDancerTracker._pixel_reach`)
+    pixel_band: tuple[float, float] = (0.05, 0.6)  # rows searched for arms, x the box height from its top
+    pixel_max_reach: float = 0.6  # at most this x the box height beyond each side
+    pixel_gap: int = 3  # px: the run of foreground columns may break for this many columns
+    pixel_min_thickness: float = 0.025  # x the box height: foreground pixels a column needs (an arm; the
+    # blended pixels along the edge of a floor are thinner)
+    pixel_front: float = 0.05  # x the box height: a dancer whose box bottom is this much lower stands in front
+    pixel_opening: int = 3  # px: foreground thinner than this is removed (morphological opening)
+    pixel_margin: tuple[float, float] = (0.3, 0.3)  # the background is sampled outside the dancers' boxes widened
+    # by this x their height sideways and up and down
+    pixel_max_fill: float = 0.4  # a column more than this full of foreground (of the band's rows) is no arm: a
+    # body beside the box, or background whose colour the sample around the dancers lacks; the run stops there
     out_fraction: float = 0.35  # a box with less than this fraction of its area in the frame is out of it
     edge_reentry: bool = True  # a dancer who left on the left or right is re-identified on a strip at that edge
     # whose histogram matches its memory (:meth:`_reenter_at_edge`); works without a detector
@@ -653,6 +667,11 @@ class MultiDancerTracker:
           of the one in front, so a limb beside the pair may be either's;
         - the box did not adapt to a detection in this frame anyway (a clear dancer).
 
+        With ``pixel_extent``, a tracked dancer's box also grows sideways as far as foreground pixels run on from it
+        at arm height (:meth:`_pixel_reach`; YOLO often draws a dancer without its spread arms, and its keypoints
+        then leave them out too), whatever the pose: per side, the larger of the two extents is approached.
+        ``pose_extent`` off switches both off.
+
         Elsewhere the growth shrinks by that fraction. The box never shrinks below the tracked box (in a group a
         detection shows the visible part, which the dancer in front may cut), and the growth changes only the
         reported box, not the tracking (overlaps, histograms, failure tests, relocation). Returns the frame's
@@ -662,10 +681,16 @@ class MultiDancerTracker:
             return self.result()
         a = c.pose_adaptation
         size = (frame.shape[1], frame.shape[0])
+        # the background is sampled around the tracked boxes, not the reported ones: a reported box that grew onto
+        # background would take that background out of the sample and make it foreground, and grow further
+        fg = foreground_mask(frame, [d.box for d in self.dancers if d.status != OUT], margin=c.pixel_margin,
+                             opening=c.pixel_opening) if c.pixel_extent else None
         for i, d in enumerate(self.dancers):
             if d.status == OUT:
                 continue
             target = np.zeros(4)
+            if fg is not None:
+                target[0], target[2] = self._pixel_reach(d, fg)
             pose = poses[i] if i < len(poses) else None
             if pose is not None and self._pose_extends(d, pose, margins[i], poses):
                 ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
@@ -679,9 +704,65 @@ class MultiDancerTracker:
                     if reach[side] >= 1:  # a limb of the skeleton reaches into the strip beyond the box
                         mask = skeleton_mask(keypoints, strip, size)
                         if mask is not None and mask.any():
-                            target[side] = reach[side]
+                            target[side] = max(target[side], reach[side])
             d.growth = (1 - a) * d.growth + a * target
         return self.result()
+
+    def _pixel_reach(self, d: DancerTrack, fg: np.ndarray) -> tuple[float, float]:
+        """How far (px) foreground pixels (``fg``: :func:`hdvr.tracking.appearance.foreground_mask`) run on from
+        tracked dancer ``d``'s box to the left and to the right at arm height (rows ``pixel_band`` of the box).
+        Column by column outwards from the box: a column counts when it holds at least max(3, ``pixel_min_thickness``
+        x the box height) foreground pixels, the run may break for ``pixel_gap`` columns, ends at
+        ``pixel_max_reach`` x the box height, and stops at a column more than ``pixel_max_fill`` foreground (a body
+        beside the box, or background the sample lacked). Where it reaches another dancer's body core it stops,
+        and if that dancer stands level with ``d`` or in front (box bottom not ``pixel_front`` x the height higher
+        in the image), that side gets nothing: the limb may be that dancer's, reaching towards ``d``. Zero for a
+        dancer not seen now or standing straight behind or in front of another (``pose_stack_overlap``).
+
+        Written here as a scan over column counts rather than with ``cv2.connectedComponents``: the dancers' own
+        foreground touches (a group is one component), and what is needed is how far the run goes along one row
+        band, with the stop rules above."""
+        c = self.config
+        if d.status != TRACKED:
+            return 0.0, 0.0
+        others = [o for o in self.dancers if o is not d and o.status != OUT]
+        if any(self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap for o in others):
+            return 0.0, 0.0
+        x, y, w, h = d.box
+        height, width = fg.shape
+        r0, r1 = int(max(0, y + c.pixel_band[0] * h)), int(min(height, y + c.pixel_band[1] * h))
+        if r1 - r0 < 2:
+            return 0.0, 0.0
+        counts = fg[r0:r1].sum(axis=0)
+        # columns of other dancers' body cores at these rows: 1 where this dancer stands in front of that dancer
+        # (box bottom lower in the image: its arm may cross the other's body), -1 where behind or level
+        cores = np.zeros(width, int)
+        for o in others:
+            ox, oy, ow, oh = self._core(o.box)
+            if oy < r1 and oy + oh > r0:
+                span = slice(max(0, int(ox)), max(0, int(np.ceil(ox + ow))))
+                in_front = y + h > o.box[1] + o.box[3] + c.pixel_front * h
+                cores[span] = np.where(cores[span] < 0, -1, 1 if in_front else -1)
+        needed = max(3.0, c.pixel_min_thickness * h)
+        full = counts > c.pixel_max_fill * (r1 - r0)
+        limit = c.pixel_max_reach * h
+        reach = []
+        for edge, step in ((int(np.floor(x)) - 1, -1), (int(np.ceil(x + w)), 1)):
+            last, gap, col = 0, 0, edge
+            while 0 <= col < width and abs(col - edge) < limit and not full[col]:
+                if cores[col] != 0:  # the run reaches another dancer's body: it stops there, and if that dancer
+                    # stands in front or level, the limb may be that dancer's, reaching towards this one
+                    last = last if cores[col] > 0 else 0
+                    break
+                if counts[col] >= needed:
+                    last, gap = abs(col - edge) + 1, 0
+                else:
+                    gap += 1
+                    if gap > c.pixel_gap:
+                        break
+                col += step
+            reach.append(float(last))
+        return reach[0], reach[1]
 
     def _pose_extends(self, d: DancerTrack, pose, margin, poses) -> bool:
         """Whether ``pose``, chosen for dancer ``d`` with selection ``margin``, may extend its reported box (the
