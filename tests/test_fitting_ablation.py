@@ -75,6 +75,7 @@ def test_fit_options_map_to_settings():
     s = settings_from_args(parser.parse_args(["--smooth-2d", "on", "--no-upright", "--no-pose-prior"]))
     assert (s.smooth_2d, s.upright_weight, s.pose_prior_weight) == ("on", 0.0, 0.0)
     assert not settings_from_args(parser.parse_args(["--no-limb-depth"])).limb_depth
+    assert settings_from_args(parser.parse_args(["--pose-prior-weight", "2"])).pose_prior_weight == 2.0
     s = settings_from_args(parser.parse_args(["--no-temporal"]))
     assert not s.temporal and s.smooth_2d == "off"  # 2D smoothing is temporal too
     s = settings_from_args(parser.parse_args(["--paper"]))

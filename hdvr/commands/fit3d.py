@@ -30,6 +30,9 @@ def add_fit_arguments(p: argparse.ArgumentParser) -> None:
                    help="temporal smoothing of the 2D tracks before the fit (default auto: when their estimated "
                         "jitter exceeds 2.5 px)")
     p.add_argument("--no-pose-prior", action="store_true", help="ablation: no learned hinge-angle prior")
+    p.add_argument("--pose-prior-weight", type=float, default=None,
+                   help="weight of the learned hinge-angle prior (default 3; 2 fits clean, e.g. synthetic, 2D "
+                        "better and detector-like noise worse: docs/fitting.md)")
     p.add_argument("--no-upright", action="store_true",
                    help="ablation: no trunk tilt prior (for dancers who lean far towards or away from the camera "
                         "for long stretches, e.g. floor work)")
@@ -54,7 +57,8 @@ def settings_from_args(args: argparse.Namespace, **extra):
     for key, attr in (("delta", "delta"), ("seeds", "seeds"), ("stride", "stride"), ("focal", "focal"),
                       ("height_m", "height"), ("joint_ranges", "joint_ranges"),
                       ("refine_sweeps", "refine_sweeps"), ("random_seed", "seed"), ("workers", "workers"),
-                      ("chunk_frames", "chunk_frames"), ("smooth_2d", "smooth_2d")):
+                      ("chunk_frames", "chunk_frames"), ("smooth_2d", "smooth_2d"),
+                      ("pose_prior_weight", "pose_prior_weight")):
         value = getattr(args, attr, None)
         if value is not None:
             overrides[key] = value
