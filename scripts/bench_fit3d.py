@@ -101,6 +101,11 @@ def fit_job(job) -> dict:
     return row
 
 
+def print_row(row: dict) -> None:
+    """One result row as a JSON line (floats to 2 decimals), flushed: progress for long runs."""
+    print(json.dumps({k: (round(v, 2) if isinstance(v, float) else v) for k, v in row.items()}), flush=True)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--takes", nargs="*", default=["01", "02", "03", "04", "05", "06", "07"],
@@ -163,8 +168,7 @@ def main() -> int:
         with multiprocessing.Pool(max(1, args.procs)) as pool:
             for row in pool.imap(fit_job, jobs):
                 rows.append(row)
-                print(json.dumps({k: (round(v, 2) if isinstance(v, float) else v) for k, v in row.items()}),
-                      flush=True)
+                print_row(row)
 
     # speed and memory: one-minute and two-minute clips (clean, focal given), each in a fresh process so that the
     # peak resident memory (ru_maxrss) is that fit's
@@ -176,8 +180,7 @@ def main() -> int:
                    *SPEED_TAKES]
             out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
             runs.append(json.loads(next(line for line in out.splitlines() if line.startswith("SPEED "))[6:]))
-            print(json.dumps({k: (round(v, 2) if isinstance(v, float) else v) for k, v in runs[-1].items()}),
-                  flush=True)
+            print_row(runs[-1])
         runs.sort(key=lambda r: r["frames_per_second"])
         row = dict(runs[(len(runs) - 1) // 2])  # the median run (the lower middle one for an even count)
         row["frames_per_second_runs"] = [r["frames_per_second"] for r in runs]
