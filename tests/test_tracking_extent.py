@@ -2,6 +2,7 @@
 its arms while overlapping another gets a box that covers them; ambiguous poses change nothing."""
 
 import cv2
+import pytest
 import numpy as np
 
 from hdvr.pose2d.base import PersonPose
@@ -201,3 +202,55 @@ def test_no_pixel_growth_onto_a_background_patch_next_to_the_box():
     loose = MultiDancerTracker(_arms_scene(60.0), [(162.0, 106.0, 76.0, 288.0)], MultiTrackerConfig(pixel_max_fill=1.1))
     result = loose.extend_to_poses(frame, [None], [None])
     assert result.boxes[0][2] > 76 + 20, result.boxes[0]  # without the rule the box grows onto it
+
+
+def _stacked_scene(b_arm_tip=None, a_arm_out=False):
+    """Dancer B (orange, 250 px tall, feet at y 360) straight behind dancer A (blue, 280 px, feet at y 400), both
+    centred at x 300, on the wall-and-floor background of :func:`_arms_scene`. With ``b_arm_tip`` (x px) B reaches
+    its arm out to the left beside A; with ``a_arm_out`` A's own left forearm points out to the left. Returns the
+    frame and A's COCO-17 keypoints."""
+    frame = np.full((H, W, 3), (70, 150, 190), np.uint8)
+    frame[250:] = (90, 90, 90)
+    frame[250::24] = (130, 130, 130)
+    kp_b = _figure(frame, 300.0, 110.0, 250.0, (40, 110, 230), 40.0)
+    if b_arm_tip is not None:
+        cv2.line(frame, tuple(int(v) for v in kp_b[6, :2]), (int(b_arm_tip), 170), (40, 110, 230), 8)
+    kp_a = _figure(frame, 300.0, 120.0, 280.0, (200, 60, 40), 40.0)
+    if a_arm_out:  # the elbow stays where it was; the wrist moves 40 px further out
+        kp_a[10, 0] = kp_a[8, 0] - 40.0
+    return frame, kp_a
+
+
+STACKED_BOXES = [(262.0, 116.0, 76.0, 288.0), (270.0, 106.0, 60.0, 258.0)]  # A in front, B behind
+
+
+def test_a_hidden_dancer_reaches_as_far_as_its_arm_beside_the_one_in_front():
+    """Foreground beside a stacked pair that the front dancer's (clearly chosen) skeleton does not explain is an
+    arm of the dancer behind: its box grows to it; the front dancer's does not."""
+    frame, kp_a = _stacked_scene()
+    tracker = MultiDancerTracker(frame, STACKED_BOXES)
+    frame, kp_a = _stacked_scene(b_arm_tip=180.0)
+    for _ in range(6):
+        result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
+    a, b = result.boxes
+    assert b[0] < 180 + 10 and b[0] + b[2] == pytest.approx(330.0, abs=1), b  # B's box reaches the arm's tip
+    np.testing.assert_allclose(a, STACKED_BOXES[0], atol=1e-6)
+    # without the stacked extent, or without a clear pose for A, nothing grows
+    for config, margins in ((MultiTrackerConfig(stacked_extent=False), [float("inf"), None]),
+                            (MultiTrackerConfig(), [0.05, None])):
+        other = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES, config)
+        for _ in range(3):
+            result = other.extend_to_poses(frame, [_pose(kp_a), None], margins)
+        np.testing.assert_allclose(result.boxes, STACKED_BOXES, atol=1e-6)
+
+
+def test_no_stacked_extent_where_the_front_dancers_arm_points_or_the_limb_is_too_long():
+    """The detector often ends an arm short of the hand: where the front dancer's forearm points out to the side
+    of the limb, the limb may be its own. A limb longer than ``stacked_max_reach`` x the hidden dancer's height is
+    not the hidden dancer's either."""
+    for frame_kp in (_stacked_scene(b_arm_tip=180.0, a_arm_out=True), _stacked_scene(b_arm_tip=120.0)):
+        frame, kp_a = frame_kp
+        tracker = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES)
+        for _ in range(3):
+            result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
+        np.testing.assert_allclose(result.boxes, STACKED_BOXES, atol=1e-6)

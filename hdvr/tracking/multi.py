@@ -29,7 +29,9 @@ detection is missing on its box.
 After Algorithm 2* has chosen each dancer's pose on a detector frame, :meth:`MultiDancerTracker.extend_to_poses`
 lets the *reported* box reach as far as a clearly chosen pose does beyond the tracked box (spread arms of a dancer
 in a group, whose tracked box keeps the size it had when clear), and sideways as far as foreground pixels run on
-from it at arm height (arms the detector left out); the tracking itself does not use it.
+from it at arm height (arms the detector left out); a dancer stacked behind another takes the foreground beside
+the front dancer that the front dancer's skeleton does not explain (its arm reaching out). The tracking itself does
+not use these extents.
 
 A dancer whose box leaves the frame is *out* (no box) until it comes back: on a detection, or without one on the
 strip at the left or right edge it left by, when that strip matches its memory clearly better than the empty edge
@@ -126,6 +128,13 @@ class MultiTrackerConfig:
     # by this x their height sideways and up and down
     pixel_max_fill: float = 0.4  # a column more than this full of foreground (of the band's rows) is no arm: a
     # body beside the box, or background whose colour the sample around the dancers lacks; the run stops there
+    stacked_extent: bool = True  # a dancer hidden straight behind another reaches as far as foreground runs on
+    # from the front dancer's box beyond that dancer's own skeleton (:meth:`MultiDancerTracker._stacked_reach`)
+    stacked_tolerance: float = 0.1  # x the front dancer's height: a shorter run is no limb
+    stacked_max_reach: float = 0.45  # x the hidden dancer's box height: the most its arm reaches beyond its box
+    # (shoulder to fingertip is about 0.45 of the stature); a longer limb is not its own
+    stacked_arm_out: float = 0.05  # x the front dancer's height: its arm reaching or pointing further out to a side
+    # makes a limb on that side possibly its own
     out_fraction: float = 0.35  # a box with less than this fraction of its area in the frame is out of it
     edge_reentry: bool = True  # a dancer who left on the left or right is re-identified on a strip at that edge
     # whose histogram matches its memory (:meth:`_reenter_at_edge`); works without a detector
@@ -691,6 +700,9 @@ class MultiDancerTracker:
             target = np.zeros(4)
             if fg is not None:
                 target[0], target[2] = self._pixel_reach(d, fg)
+                if c.stacked_extent:
+                    left, right = self._stacked_reach(i, fg, poses, margins)
+                    target[0], target[2] = max(target[0], left), max(target[2], right)
             pose = poses[i] if i < len(poses) else None
             if pose is not None and self._pose_extends(d, pose, margins[i], poses):
                 ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
@@ -728,7 +740,16 @@ class MultiDancerTracker:
         others = [o for o in self.dancers if o is not d and o.status != OUT]
         if any(self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap for o in others):
             return 0.0, 0.0
-        x, y, w, h = d.box
+        return self._run_reach(d.box, others, fg)
+
+    def _run_reach(self, box, others, fg: np.ndarray, limb_box=None) -> tuple[float, float]:
+        """The column scan of :meth:`_pixel_reach` from the sides of ``box`` (x, y, w, h px), with the body cores
+        of dancers ``others`` as stops: how far (px) foreground runs on to the left and to the right of the box.
+        Rows, thickness and reach scale with ``limb_box`` (default ``box``): the box of the dancer whose limb is
+        sought."""
+        c = self.config
+        x, _, w, _ = box
+        _, y, _, h = box if limb_box is None else limb_box
         height, width = fg.shape
         r0, r1 = int(max(0, y + c.pixel_band[0] * h)), int(min(height, y + c.pixel_band[1] * h))
         if r1 - r0 < 2:
@@ -763,6 +784,54 @@ class MultiDancerTracker:
                 col += step
             reach.append(float(last))
         return reach[0], reach[1]
+
+    def _stacked_reach(self, i: int, fg: np.ndarray, poses, margins) -> tuple[float, float]:
+        """Extent (px, left and right of its box) of dancer ``i`` hidden straight behind another dancer, from the
+        foreground the front dancer's pose does not explain.
+
+        Dancer ``i`` (tracked or occluded, no clear pose of its own) stands behind dancer f when their body cores
+        overlap more than ``pose_stack_overlap`` and f's box bottom is at least ``pixel_front`` x the height lower
+        in the image. If f has a clearly chosen pose (margin >= ``pose_margin``), foreground running on from f's box
+        at arm height (:meth:`_run_reach`) further than f's skeleton reaches (its keypoints beyond f's box, plus
+        ``stacked_tolerance`` x f's height) is a limb of a dancer behind f: dancer ``i``'s box reaches as far."""
+        c = self.config
+        d = self.dancers[i]
+        if d.status not in (TRACKED, OCCLUDED):
+            return 0.0, 0.0
+        if i < len(poses) and poses[i] is not None and margins[i] is not None and margins[i] >= c.pose_margin:
+            return 0.0, 0.0
+        left = right = 0.0
+        for j, f in enumerate(self.dancers):
+            if f is d or f.status != TRACKED or j >= len(poses) or poses[j] is None:
+                continue
+            if margins[j] is None or margins[j] < c.pose_margin:
+                continue
+            if self._bodies_overlap(f.box, d.box) <= c.pose_stack_overlap:
+                continue
+            fx, fy, fw, fh = f.box
+            if fy + fh <= d.box[1] + d.box[3] + c.pixel_front * d.box[3]:
+                continue  # f is not in front of d
+            others = [o for o in self.dancers if o is not d and o is not f and o.status != OUT]
+            run_left, run_right = self._run_reach(f.box, others, fg, limb_box=d.box)
+            kp = poses[j].body25()
+            seen = kp[:, 2] > 0
+            if not seen.any():
+                continue
+            skel_left = max(0.0, fx - float(np.min(kp[seen, 0])))
+            skel_right = max(0.0, float(np.max(kp[seen, 0])) - fx - fw)
+            # how far f's forearms point to the left (< 0) and right (> 0): a limb beyond the box on a side its own
+            # arm points to, or reaches out to, may be f's (the detector often ends the arm short of the hand)
+            forearms = [kp[w, 0] - kp[e, 0] for e, w in ((3, 4), (6, 7)) if kp[e, 2] > 0 and kp[w, 2] > 0]
+            points = c.stacked_arm_out * fh
+            slack = c.stacked_tolerance * fh
+            longest = c.stacked_max_reach * d.box[3]  # a longer limb cannot be d's
+            if run_left > slack and skel_left <= points and not any(v < -points for v in forearms):
+                reach = d.box[0] - (fx - run_left)
+                left = max(left, reach if reach <= longest else 0.0)
+            if run_right > slack and skel_right <= points and not any(v > points for v in forearms):
+                reach = fx + fw + run_right - d.box[0] - d.box[2]
+                right = max(right, reach if reach <= longest else 0.0)
+        return max(0.0, left), max(0.0, right)
 
     def _pose_extends(self, d: DancerTrack, pose, margin, poses) -> bool:
         """Whether ``pose``, chosen for dancer ``d`` with selection ``margin``, may extend its reported box (the
