@@ -13,6 +13,8 @@ same dancers"), the Indian takes a second test ("unseen style").
     python3 scripts/bench_lifter.py --workers 2 [--cameras 4] [--epochs 60] [--small]
 
 ``--gt-npz`` reads pre-converted mocap (``--write-gt-npz`` writes it) for machines without ../shared.
+``--fits-cache FILE`` keeps the fitted views of step 1 (the slow part) for further lifter runs with the same
+options.
 """
 
 from __future__ import annotations
@@ -90,6 +92,33 @@ def fit_one(job):
             "fit_seconds": seconds}
 
 
+FIT_FIELDS = ("keypoints", "gt_cam", "true_focal", "fit_cam", "fit_focal", "fit_pp", "fit_seconds", "camera")
+
+
+def write_fits(path: str, key: str, views: list[dict]) -> None:
+    """Keep the fitted views (step 1, the slow part) for further lifter runs with the same options."""
+    from hdvr.io.atomic import atomic_path
+
+    arrays = {"key": np.array(key), "names": np.array([v["name"] for v in views])}
+    for i, v in enumerate(views):
+        arrays.update({f"{i}/{f}": np.asarray(v[f]) for f in FIT_FIELDS})
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as fh:
+            np.savez_compressed(fh, **arrays)
+
+
+def read_fits(path: str, key: str) -> list[dict] | None:
+    """The views :func:`write_fits` kept, or None if there is no such file or it was made with other options."""
+    if not Path(path).is_file():
+        return None
+    with np.load(path, allow_pickle=False) as data:
+        if str(data["key"]) != key:
+            print(f"{path} was made with other options; fitting again")
+            return None
+        names = [str(n) for n in data["names"]]
+        return [{"name": n, **{f: data[f"{i}/{f}"] for f in FIT_FIELDS}} for i, n in enumerate(names)]
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cameras", type=int, default=4, help="virtual cameras per training clip (test: 2)")
@@ -102,6 +131,8 @@ def main() -> int:
     parser.add_argument("--write-gt-npz", default=None, help="write the converted mocap and exit")
     parser.add_argument("--out", default=str(REPO / "docs" / "lifter_bench.json"))
     parser.add_argument("--model-out", default=None, help="save the trained lifter here")
+    parser.add_argument("--fits-cache", default=None,
+                        help="NPZ of the fitted views: read if it exists (same options), else written after step 1")
     args = parser.parse_args()
 
     gt = load_gt(args.gt_npz)
@@ -122,8 +153,13 @@ def main() -> int:
         n_cams = args.cameras if split_of(name) == "train" else 2
         jobs += [(name, c, world, args.noise_px, args.max_frames) for c in range(n_cams)]
     t0 = time.perf_counter()
-    with ProcessPoolExecutor(args.workers) as pool:
-        views = list(pool.map(fit_one, jobs))
+    key = f"cameras={args.cameras} noise={args.noise_px} max_frames={args.max_frames} clips={sorted(gt)}"
+    views = read_fits(args.fits_cache, key) if args.fits_cache else None
+    if views is None:
+        with ProcessPoolExecutor(args.workers) as pool:
+            views = list(pool.map(fit_one, jobs))
+        if args.fits_cache:
+            write_fits(args.fits_cache, key, views)
     fit_wall = time.perf_counter() - t0
     frames = sum(v["keypoints"].shape[0] for v in views)
     print(f"fitted {len(views)} views, {frames} frames in {fit_wall:.0f} s with {args.workers} workers")
