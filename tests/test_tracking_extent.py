@@ -6,6 +6,7 @@ import pytest
 import numpy as np
 
 from hdvr.pose2d.base import PersonPose
+from hdvr.tracking.appearance import foreground_mask
 from hdvr.tracking.multi import MultiDancerTracker, MultiTrackerConfig
 
 H, W = 480, 640
@@ -254,3 +255,54 @@ def test_no_stacked_extent_where_the_front_dancers_arm_points_or_the_limb_is_too
         for _ in range(3):
             result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
         np.testing.assert_allclose(result.boxes, STACKED_BOXES, atol=1e-6)
+
+
+def _crossing_scene(arm_tip=None):
+    """Dancer B (orange, 250 px tall, feet at y 360, cx 300) behind dancer A (blue, 280 px, feet at y 400, cx 250),
+    their bodies overlapping (a group), on the wall-and-floor background of :func:`_arms_scene`. With ``arm_tip``
+    (x px) A reaches its arm out to the right in front of B's body, to that x; the detector's pose of A leaves the arm
+    out. Returns the frame and the COCO-17 keypoints of A and B."""
+    frame = np.full((H, W, 3), (70, 150, 190), np.uint8)
+    frame[250:] = (90, 90, 90)
+    frame[250::24] = (130, 130, 130)
+    kp_b = _figure(frame, 300.0, 110.0, 250.0, (40, 110, 230), 40.0)
+    kp_a = _figure(frame, 250.0, 120.0, 280.0, (200, 60, 40), 40.0)
+    if arm_tip is not None:
+        cv2.line(frame, tuple(int(v) for v in kp_a[5, :2]), (int(arm_tip), 180), (200, 60, 40), 12)
+    return frame, kp_a, kp_b
+
+
+CROSSING_BOXES = [(212.0, 116.0, 76.0, 288.0), (270.0, 106.0, 60.0, 258.0)]  # A in front, B behind
+
+
+def test_grabcut_follows_an_arm_across_the_body_of_the_dancer_behind():
+    """The foreground of A's arm runs on over B's body, where the column scan stops at once (B's body core starts
+    inside A's box); A's own GrabCut segment follows the arm across it. B's box and the tracked boxes stay."""
+    frame, kp_a, kp_b = _crossing_scene()
+    tracker = MultiDancerTracker(frame, CROSSING_BOXES)
+    assert tracker._overlapping(0, CROSSING_BOXES), "the two dancers form a group"
+    frame, kp_a, kp_b = _crossing_scene(arm_tip=325.0)
+    poses, margins = [_pose(kp_a), _pose(kp_b)], [float("inf"), float("inf")]
+    for _ in range(6):
+        result = tracker.extend_to_poses(frame, poses, margins)
+    a, b = result.boxes
+    assert a[0] + a[2] > 306 and a[0] == pytest.approx(212.0, abs=1), a  # most of the way to the hand at 325
+    np.testing.assert_allclose(b, CROSSING_BOXES[1], atol=2)  # B's box does not grow onto A's arm
+    assert [d.box for d in tracker.dancers] == CROSSING_BOXES
+    # without GrabCut the foreground run stops at B's body, right beside A's box
+    off = MultiDancerTracker(_crossing_scene()[0], CROSSING_BOXES, MultiTrackerConfig(grabcut_extent=False))
+    for _ in range(6):
+        result = off.extend_to_poses(frame, poses, margins)
+    assert result.boxes[0][0] + result.boxes[0][2] < 288 + 20, result.boxes[0]
+
+
+def test_no_grabcut_extent_for_a_stacked_pair_without_two_clear_poses():
+    """Dancers straight behind one another (body cores overlapping more than ``pose_stack_overlap``): one without a
+    clear pose is seeded with a strip down the middle of its box, which is as much the other's, and a limb beside
+    the pair may be either's. Neither gets an extent from its segment then, as with the poses' extent."""
+    frame, kp_a = _stacked_scene(b_arm_tip=180.0)
+    tracker = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES)
+    fg = foreground_mask(frame, STACKED_BOXES)
+    for margins in ([0.05, None], [float("inf"), None]):
+        for i in (0, 1):
+            assert tracker._grabcut_reach(i, frame, fg, [_pose(kp_a), None], margins) == (0.0, 0.0)

@@ -30,7 +30,8 @@ After Algorithm 2* has chosen each dancer's pose on a detector frame, :meth:`Mul
 lets the *reported* box reach as far as a clearly chosen pose does beyond the tracked box (spread arms of a dancer
 in a group, whose tracked box keeps the size it had when clear), and sideways as far as foreground pixels run on
 from it at arm height (arms the detector left out); a dancer stacked behind another takes the foreground beside
-the front dancer that the front dancer's skeleton does not explain (its arm reaching out). The tracking itself does
+the front dancer that the front dancer's skeleton does not explain (its arm reaching out); and a dancer in a group
+reaches as far as its own GrabCut segment runs on (a limb crossing another dancer's body). The tracking itself does
 not use these extents.
 
 A dancer whose box leaves the frame is *out* (no box) until it comes back: on a detection, or without one on the
@@ -46,6 +47,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import cv2
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
@@ -135,6 +137,14 @@ class MultiTrackerConfig:
     # (shoulder to fingertip is about 0.45 of the stature); a longer limb is not its own
     stacked_arm_out: float = 0.05  # x the front dancer's height: its arm reaching or pointing further out to a side
     # makes a limb on that side possibly its own
+    grabcut_extent: bool = True  # ... and a dancer in a group as far as its own GrabCut segment (OpenCV's colour
+    # segmentation, seeded from the skeletons) runs on from its box (:meth:`MultiDancerTracker._grabcut_reach`):
+    # the foreground alone cannot tell whose limb crosses another dancer's body
+    grabcut_widen: float = 0.8  # x the box height: the segmented crop reaches this far beyond each side of the box
+    grabcut_scale: float = 0.5  # the crop is segmented at this scale (1.0: about 3x the time)
+    grabcut_iterations: int = 3  # GrabCut iterations (colour models re-fitted and cut again)
+    grabcut_seed_thickness: float = 0.03  # x the box height: skeletons (or body strips) drawn as seeds
+    grabcut_rows: tuple[float, float] = (0.0, 1.0)  # rows of the segment scanned, x the box height from its top
     out_fraction: float = 0.35  # a box with less than this fraction of its area in the frame is out of it
     edge_reentry: bool = True  # a dancer who left on the left or right is re-identified on a strip at that edge
     # whose histogram matches its memory (:meth:`_reenter_at_edge`); works without a detector
@@ -678,8 +688,11 @@ class MultiDancerTracker:
 
         With ``pixel_extent``, a tracked dancer's box also grows sideways as far as foreground pixels run on from it
         at arm height (:meth:`_pixel_reach`; YOLO often draws a dancer without its spread arms, and its keypoints
-        then leave them out too), whatever the pose: per side, the larger of the two extents is approached.
-        ``pose_extent`` off switches both off.
+        then leave them out too), whatever the pose; with ``stacked_extent`` a dancer hidden behind another also
+        as far as the limb beside it that the front dancer's skeleton does not explain (:meth:`_stacked_reach`); with
+        ``grabcut_extent`` a dancer in a group also as far as its own GrabCut segment runs on from its box
+        (:meth:`_grabcut_reach`). Per side, the largest of these extents is approached. ``pose_extent`` off switches
+        all off, ``pixel_extent`` off the last three.
 
         Elsewhere the growth shrinks by that fraction. The box never shrinks below the tracked box (in a group a
         detection shows the visible part, which the dancer in front may cut), and the growth changes only the
@@ -703,6 +716,9 @@ class MultiDancerTracker:
                 if c.stacked_extent:
                     left, right = self._stacked_reach(i, fg, poses, margins)
                     target[0], target[2] = max(target[0], left), max(target[2], right)
+            if c.grabcut_extent and fg is not None:
+                left, right = self._grabcut_reach(i, frame, fg, poses, margins)
+                target[0], target[2] = max(target[0], left), max(target[2], right)
             pose = poses[i] if i < len(poses) else None
             if pose is not None and self._pose_extends(d, pose, margins[i], poses):
                 ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
@@ -742,16 +758,21 @@ class MultiDancerTracker:
             return 0.0, 0.0
         return self._run_reach(d.box, others, fg)
 
-    def _run_reach(self, box, others, fg: np.ndarray, limb_box=None) -> tuple[float, float]:
+    def _run_reach(self, box, others, fg: np.ndarray, limb_box=None, own_segment: bool = False,
+                   rows=None) -> tuple[float, float]:
         """The column scan of :meth:`_pixel_reach` from the sides of ``box`` (x, y, w, h px), with the body cores
         of dancers ``others`` as stops: how far (px) foreground runs on to the left and to the right of the box.
         Rows, thickness and reach scale with ``limb_box`` (default ``box``): the box of the dancer whose limb is
-        sought."""
+        sought; ``rows`` (default ``pixel_band``) are the rows scanned, x its height from its top. With
+        ``own_segment`` (``fg`` is this dancer's own segment, :meth:`_grabcut_reach`) only the cores of dancers level
+        with it stop the run (that side gets nothing): the segmentation has already left out the bodies of those
+        behind it and in front of it."""
         c = self.config
         x, _, w, _ = box
         _, y, _, h = box if limb_box is None else limb_box
         height, width = fg.shape
-        r0, r1 = int(max(0, y + c.pixel_band[0] * h)), int(min(height, y + c.pixel_band[1] * h))
+        band = c.pixel_band if rows is None else rows
+        r0, r1 = int(max(0, y + band[0] * h)), int(min(height, y + band[1] * h))
         if r1 - r0 < 2:
             return 0.0, 0.0
         counts = fg[r0:r1].sum(axis=0)
@@ -763,6 +784,8 @@ class MultiDancerTracker:
             if oy < r1 and oy + oh > r0:
                 span = slice(max(0, int(ox)), max(0, int(np.ceil(ox + ow))))
                 in_front = y + h > o.box[1] + o.box[3] + c.pixel_front * h
+                if own_segment and o.box[1] + o.box[3] > y + h + c.pixel_front * h:
+                    continue  # o stands in front: its skeleton was a background seed
                 cores[span] = np.where(cores[span] < 0, -1, 1 if in_front else -1)
         needed = max(3.0, c.pixel_min_thickness * h)
         full = counts > c.pixel_max_fill * (r1 - r0)
@@ -771,7 +794,9 @@ class MultiDancerTracker:
         for edge, step in ((int(np.floor(x)) - 1, -1), (int(np.ceil(x + w)), 1)):
             last, gap, col = 0, 0, edge
             while 0 <= col < width and abs(col - edge) < limit and not full[col]:
-                if cores[col] != 0:  # the run reaches another dancer's body: it stops there, and if that dancer
+                if cores[col] > 0 and own_segment:
+                    pass  # the limb crosses the body of a dancer behind this one
+                elif cores[col] != 0:  # the run reaches another dancer's body: it stops there, and if that dancer
                     # stands in front or level, the limb may be that dancer's, reaching towards this one
                     last = last if cores[col] > 0 else 0
                     break
@@ -832,6 +857,110 @@ class MultiDancerTracker:
                 reach = fx + fw + run_right - d.box[0] - d.box[2]
                 right = max(right, reach if reach <= longest else 0.0)
         return max(0.0, left), max(0.0, right)
+
+    def _grabcut_reach(self, i: int, frame, fg: np.ndarray, poses, margins) -> tuple[float, float]:
+        """Extent (px, left and right of its box) of dancer ``i`` in a group, from its own segment.
+
+        Where a dancer's arm crosses the body of another, the foreground (``fg``) runs on as one region and the
+        column scan of :meth:`_pixel_reach` must stop at the other's body. GrabCut (OpenCV's ``cv2.grabCut``: a
+        colour model of the dancer and one of everything else, both re-fitted, and a graph cut with a smoothness
+        term, seeded from what the tracker knows) separates this dancer's pixels from those of the dancers around
+        it, so that its limb can be followed across them; no other per-person segmentation is at hand on the
+        frames (the person masks of a pose model gave the front dancer's mask on a hidden dancer's crop).
+
+        Only for a dancer whose body core overlaps another's (a clear dancer is handled by the detections and
+        :meth:`_pixel_reach`), tracked, or occluded with a clearly chosen pose (margin >= ``pose_margin``; the middle
+        of an occluded dancer's predicted box is mostly the dancer hiding it); and not for one stacked straight
+        behind or in front of another (cores overlapping more than ``pose_stack_overlap``) unless both have a
+        clearly chosen pose: a body strip seed would be either dancer's, and a limb beside the pair may be either's
+        (on a drawn stacked pair the front dancer's segment took the hidden one's arm). On a crop of the frame (the
+        box's rows, the box widened by ``grabcut_widen`` x its height on each side) at ``grabcut_scale``,
+        ``grabcut_iterations`` iterations, seeded with:
+
+        - sure foreground: the skeleton of the pose chosen for the dancer, or without one a strip down the middle of
+          its box (15 % to 85 % of its height), ``grabcut_seed_thickness`` x its height thick, where foreground and
+          inside its box (a keypoint beyond the box may lie on another dancer's limb);
+        - sure background: pixels ``fg`` marks as background, and the skeletons (strips) of the other dancers that
+          stand level with it or in front (box bottom not ``pixel_front`` x its height higher in the image);
+        - probably foreground: the other foreground pixels inside its box; probably background: the rest (dancers
+          behind it too: its limbs may cross them).
+
+        The part of the segment connected to the sure foreground is scanned like foreground by :meth:`_run_reach`
+        over rows ``grabcut_rows`` of the box, passing over the body cores of dancers behind and in front of it.
+        The OpenCV random generator is seeded before each cut (its k-means start), so a frame gives one result."""
+        c = self.config
+        d = self.dancers[i]
+        if d.status not in (TRACKED, OCCLUDED) or not self._overlapping(i, [o.box for o in self.dancers]):
+            return 0.0, 0.0
+
+        def clear(j: int) -> bool:
+            return j < len(poses) and poses[j] is not None and j < len(margins) and margins[j] is not None \
+                and margins[j] >= c.pose_margin
+
+        if d.status == OCCLUDED and not clear(i):
+            return 0.0, 0.0  # a body strip down its predicted box would lie on the dancer hiding it
+        if any(o is not d and o.status != OUT and self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap
+               and not (clear(i) and clear(j)) for j, o in enumerate(self.dancers)):
+            return 0.0, 0.0
+        height, width = fg.shape
+        x, y, w, h = d.box
+        x0, x1 = int(max(0, x - c.grabcut_widen * h)), int(min(width, np.ceil(x + w + c.grabcut_widen * h)))
+        y0, y1 = int(max(0, y)), int(min(height, np.ceil(y + h)))
+        if x1 - x0 < 8 or y1 - y0 < 8:
+            return 0.0, 0.0
+
+        def seed(j: int) -> np.ndarray:
+            """The skeleton of dancer j's chosen pose, or a strip down the middle of its box, on the crop (bool)."""
+            o, p = self.dancers[j], poses[j] if j < len(poses) else None
+            mask = None if p is None else skeleton_mask(p.body25(), p.box, (width, height), c.grabcut_seed_thickness)
+            if mask is None or not mask.any():
+                mask = np.zeros((height, width), np.uint8)
+                ox, oy, ow, oh = o.box
+                half, mid = max(1.0, c.grabcut_seed_thickness * oh / 2), ox + ow / 2
+                cv2.rectangle(mask, (int(mid - half), int(oy + 0.15 * oh)), (int(np.ceil(mid + half)),
+                                                                             int(oy + 0.85 * oh)), 255, -1)
+            return mask[y0:y1, x0:x1] > 0
+
+        f = fg[y0:y1, x0:x1]
+        labels = np.full(f.shape, cv2.GC_PR_BGD, np.uint8)
+        bx0, bx1 = int(max(0, x - x0)), int(min(x1 - x0, np.ceil(x + w - x0)))
+        inside = labels[:, bx0:bx1]
+        inside[f[:, bx0:bx1]] = cv2.GC_PR_FGD
+        labels[~f] = cv2.GC_BGD
+        for j, o in enumerate(self.dancers):
+            if o is not d and o.status != OUT and o.box[1] + o.box[3] >= y + h - c.pixel_front * h:
+                labels[seed(j) & f] = cv2.GC_BGD  # level or in front: its limbs are not this dancer's
+        own = seed(i) & f
+        own[:, :bx0] = False  # inside its box only: a keypoint beyond it may lie on another dancer's limb
+        own[:, bx1:] = False
+        labels[own] = cv2.GC_FGD
+        if own.sum() < 5 or not (labels == cv2.GC_BGD).any():
+            return 0.0, 0.0
+        crop = np.ascontiguousarray(frame[y0:y1, x0:x1])
+        s = c.grabcut_scale
+        if s != 1.0:
+            small = (max(2, int(round((x1 - x0) * s))), max(2, int(round((y1 - y0) * s))))
+            crop = cv2.resize(crop, small, interpolation=cv2.INTER_AREA)
+            labels = cv2.resize(labels, small, interpolation=cv2.INTER_NEAREST)
+            own = cv2.resize(own.astype(np.uint8), small, interpolation=cv2.INTER_AREA) > 0  # keeps thin seeds
+            labels[own] = cv2.GC_FGD
+        cv2.setRNGSeed(0)  # its k-means start: one result per frame (reseeds OpenCV's generator of this thread)
+        try:
+            cv2.grabCut(crop, labels, None, np.zeros((1, 65)), np.zeros((1, 65)), c.grabcut_iterations,
+                        cv2.GC_INIT_WITH_MASK)
+        except cv2.error:  # e.g. no background sample left in the crop
+            return 0.0, 0.0
+        segment = ((labels == cv2.GC_FGD) | (labels == cv2.GC_PR_FGD)).astype(np.uint8)
+        _, parts = cv2.connectedComponents(segment)
+        keep = np.unique(parts[own & (segment > 0)])
+        keep = keep[keep > 0]
+        if not keep.size:
+            return 0.0, 0.0
+        mine = cv2.resize(np.isin(parts, keep).astype(np.uint8), (x1 - x0, y1 - y0), interpolation=cv2.INTER_NEAREST)
+        full = np.zeros((height, width), bool)
+        full[y0:y1, x0:x1] = mine > 0
+        others = [o for o in self.dancers if o is not d and o.status != OUT]
+        return self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows)
 
     def _pose_extends(self, d: DancerTrack, pose, margin, poses) -> bool:
         """Whether ``pose``, chosen for dancer ``d`` with selection ``margin``, may extend its reported box (the
