@@ -306,3 +306,31 @@ def test_no_grabcut_extent_for_a_stacked_pair_without_two_clear_poses():
     for margins in ([0.05, None], [float("inf"), None]):
         for i in (0, 1):
             assert tracker._grabcut_reach(i, frame, fg, [_pose(kp_a), None], margins) == (0.0, 0.0)
+
+
+def test_a_detection_across_the_frame_is_not_one_dancer():
+    """The detector sometimes returns a box across the whole frame; a person's arm span is about their stature, so
+    a detection wider than ``max_person_width`` x a dancer's box height is not that dancer (no recovery onto it)."""
+    frame = _arms_scene(60.0)
+    tracker = MultiDancerTracker(frame, [(162.0, 106.0, 76.0, 288.0)])
+    d = tracker.dancers[0]
+    assert tracker._single_person(d, (150.0, 100.0, 100.0, 300.0))
+    assert tracker._single_person(d, (60.0, 100.0, 280.0, 300.0)), "spread arms: as wide as the dancer is tall"
+    assert not tracker._single_person(d, (5.0, 40.0, 626.0, 300.0))
+
+
+def test_a_wide_box_adapts_to_the_standing_dancer_inside_it_unless_its_arms_are_spread():
+    """A clear dancer's box adapts to a detection that overlaps it well (IoU > ``adapt_min_iou``) or, when the
+    box is much wider (a dancer who got up from the floor), to one lying inside it, provided the box's columns beside
+    the detection are background; around spread arms the detector left out, they are not, and the box keeps its
+    width."""
+    wide, detection = (100.0, 106.0, 200.0, 288.0), (162.0, 106.0, 76.0, 288.0)  # IoU 0.38
+    widths = {}
+    for span in (60.0, 200.0):  # arms down (the wide box is stale) / arms spread to x 100 and 300
+        frame = _arms_scene(span)
+        tracker = MultiDancerTracker(frame, [wide])
+        for _ in range(6):
+            tracker.step(frame, detections=[detection])
+        widths[span] = tracker.dancers[0].box[2]
+    assert widths[60.0] < 140, widths  # moved most of the way from 200 towards the detection's 76
+    assert widths[200.0] > 190, widths

@@ -52,7 +52,8 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from hdvr.pose2d.selection import skeleton_mask
-from hdvr.tracking.appearance import box_iou, box_overlap, colour_histogram, foreground_mask, histogram_similarity
+from hdvr.tracking.appearance import (box_iou, box_overlap, clip_box, colour_histogram, foreground_mask,
+                                      histogram_similarity)
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
 
 TRACKED, OCCLUDED, OUT = "tracked", "occluded", "out"
@@ -93,9 +94,14 @@ class MultiTrackerConfig:
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
+    adapt_min_containment: float = 0.9  # ... or lies this much inside it (intersection / detection area): the
+    # dancer got up from the floor, and its wide box holds the standing person
+    adapt_max_foreground: float = 0.2  # ... and its columns beside the detection are background (at most this
+    # fraction with a limb's worth of foreground: :meth:`_empty_around`)
     max_height_change: float = 1.6  # a detection this much taller or shorter than a dancer's box is not it
     box_adaptation: float = 0.3  # per confirming detection, weight of the detected box in a clear dancer's box
     max_box_offset: float = 0.25  # box centre at most this x its size from the tracker's centre
+    max_person_width: float = 2.0  # a detection wider than this x a dancer's box height is not that dancer alone
     max_size_ratio: float = 1.4  # the initial box is at most this much larger or smaller than the detector's
     retrack_scale: float = 1.25  # box height this factor off the tracker's template: the tracker restarts
     max_missed_detections: int = 3  # detector frames in a row without a person on a clear dancer's box = lost
@@ -216,6 +222,14 @@ def _box_at(centre, box) -> tuple[float, float, float, float]:
 
 def _centre(box) -> np.ndarray:
     return np.array([box[0] + box[2] / 2, box[1] + box[3] / 2], float)
+
+
+def _inside(inner, outer) -> float:
+    """Fraction of box ``inner``'s area inside box ``outer`` (both x, y, w, h px)."""
+    ix = max(0.0, min(inner[0] + inner[2], outer[0] + outer[2]) - max(inner[0], outer[0]))
+    iy = max(0.0, min(inner[1] + inner[3], outer[1] + outer[3]) - max(inner[1], outer[1]))
+    area = inner[2] * inner[3]
+    return float(ix * iy / area) if area > 0 else 0.0
 
 
 def _shift(box, d) -> tuple[float, float, float, float]:
@@ -380,7 +394,9 @@ class MultiDancerTracker:
                         self._single_person(d, matches[0], c.recovery_height_change):
                     # just recovered, moving fast and changing shape (e.g. a flip): follow the detector
                     self._restart(d, frame, matches[0], d.confidence)
-                elif len(matches) == 1 and box_iou(d.box, matches[0]) > c.adapt_min_iou and \
+                elif len(matches) == 1 and (box_iou(d.box, matches[0]) > c.adapt_min_iou or
+                                            (_inside(matches[0], d.box) > c.adapt_min_containment
+                                             and self._empty_around(frame, d, matches[0]))) and \
                         self._single_person(d, matches[0]):
                     self._adapt_box(d, frame, matches[0])
                     d.adapted_at = t
@@ -595,15 +611,43 @@ class MultiDancerTracker:
         d.stored_box, d.stored_frame = d.box, self.frame_index
 
     def _single_person(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
-        """Whether ``detection`` can be dancer ``d`` alone: its body core overlaps no other dancer's and its height
+        """Whether ``detection`` can be dancer ``d`` alone: its body core overlaps no other dancer's, its height
         is within ``max_height_change`` (default: the config's) of ``d``'s box height (a box around two people is
-        neither)."""
+        neither), and it is at most ``max_person_width`` x that height wide (a person's arm span is about their
+        stature; the detector sometimes returns a box across the whole frame)."""
         c = self.config
         change = max_height_change or c.max_height_change
         ratio = detection[3] / d.box[3]
-        return (1 / change <= ratio <= change
+        return (1 / change <= ratio <= change and detection[2] <= c.max_person_width * d.box[3]
                 and all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold
                         for o in self.dancers if o is not d))
+
+    def _empty_around(self, frame, d: DancerTrack, detection) -> bool:
+        """Whether the columns of dancer ``d``'s box beside ``detection`` (x, y, w, h px) are background: fewer than
+        ``adapt_max_foreground`` of them hold max(3, ``pixel_min_thickness`` x the box height) foreground pixels
+        (:func:`hdvr.tracking.appearance.foreground_mask`). A box left wide after a dancer got up from the floor is
+        empty there; one around spread arms the detector left out is not (thin arms fill few pixels but many
+        columns). Columns inside other dancers' boxes do not count."""
+        c = self.config
+        box = d.box
+        fg = foreground_mask(frame, [o.box for o in self.dancers if o.status != OUT], margin=c.pixel_margin,
+                             opening=c.pixel_opening)
+        size = (frame.shape[1], frame.shape[0])
+        r, q = clip_box(box, size), clip_box(detection, size)
+        if fg is None or r is None or q is None:
+            return False
+        x0, y0, x1, y1 = r
+        counts = fg[y0:y1, x0:x1].sum(axis=0)
+        beside = np.ones(x1 - x0, bool)
+        beside[max(0, q[0] - x0):max(0, q[2] - x0)] = False
+        for o in self.dancers:  # foreground in another dancer's box is that dancer's
+            b = clip_box(o.box, size) if o.status != OUT and o is not d else None
+            if b is not None:
+                beside[max(0, b[0] - x0):max(0, b[2] - x0)] = False
+        if not beside.any():
+            return False
+        needed = max(3.0, c.pixel_min_thickness * box[3])
+        return float((counts[beside] >= needed).mean()) < c.adapt_max_foreground
 
     def _adapt_box(self, d: DancerTrack, frame, detection, weight: float | None = None, retrack: bool = True) -> None:
         """Move the box of a clear dancer part of the way (``box_adaptation``) towards the one person detected on
