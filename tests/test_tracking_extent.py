@@ -334,3 +334,16 @@ def test_a_wide_box_adapts_to_the_standing_dancer_inside_it_unless_its_arms_are_
         widths[span] = tracker.dancers[0].box[2]
     assert widths[60.0] < 140, widths  # moved most of the way from 200 towards the detection's 76
     assert widths[200.0] > 190, widths
+
+
+def test_box_measures_share_one_intersection():
+    """IoU, overlap (over the smaller box) and the inside fraction of one box in another, in px boxes."""
+    from hdvr.tracking.appearance import box_inside, box_iou, box_overlap
+
+    wide, narrow = (100.0, 106.0, 200.0, 288.0), (162.0, 106.0, 76.0, 288.0)
+    assert box_inside(narrow, wide) == pytest.approx(1.0)
+    assert box_inside(wide, narrow) == pytest.approx(76 / 200)
+    assert box_overlap(wide, narrow) == pytest.approx(1.0)
+    assert box_iou(wide, narrow) == pytest.approx(76 / 200)
+    assert box_inside((0.0, 0.0, 10.0, 10.0), (20.0, 20.0, 5.0, 5.0)) == 0.0
+    assert box_inside((0.0, 0.0, 0.0, 10.0), wide) == 0.0

@@ -59,21 +59,30 @@ def histogram_similarity(a, b) -> float:
     return float(cv2.compareHist(a, b, cv2.HISTCMP_CORREL))
 
 
-def box_iou(a, b) -> float:
-    """Intersection over union of two (x, y, w, h) boxes."""
+def _intersection(a, b) -> float:
+    """Area (px^2) of the intersection of two (x, y, w, h) boxes."""
     ix = max(0.0, min(a[0] + a[2], b[0] + b[2]) - max(a[0], b[0]))
     iy = max(0.0, min(a[1] + a[3], b[1] + b[3]) - max(a[1], b[1]))
-    inter = ix * iy
+    return ix * iy
+
+
+def box_iou(a, b) -> float:
+    """Intersection over union of two (x, y, w, h) boxes."""
+    inter = _intersection(a, b)
     union = a[2] * a[3] + b[2] * b[3] - inter
     return float(inter / union) if union > 0 else 0.0
 
 
 def box_overlap(a, b) -> float:
     """Intersection over the smaller box's area, in [0, 1] (1 when one box lies inside the other)."""
-    ix = max(0.0, min(a[0] + a[2], b[0] + b[2]) - max(a[0], b[0]))
-    iy = max(0.0, min(a[1] + a[3], b[1] + b[3]) - max(a[1], b[1]))
     smaller = min(a[2] * a[3], b[2] * b[3])
-    return float(ix * iy / smaller) if smaller > 0 else 0.0
+    return float(_intersection(a, b) / smaller) if smaller > 0 else 0.0
+
+
+def box_inside(inner, outer) -> float:
+    """Fraction of box ``inner``'s area inside box ``outer`` (both x, y, w, h px), in [0, 1]."""
+    area = inner[2] * inner[3]
+    return float(_intersection(inner, outer) / area) if area > 0 else 0.0
 
 
 def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: float = 1e-4,

@@ -52,8 +52,8 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from hdvr.pose2d.selection import skeleton_mask
-from hdvr.tracking.appearance import (box_iou, box_overlap, clip_box, colour_histogram, foreground_mask,
-                                      histogram_similarity)
+from hdvr.tracking.appearance import (box_inside, box_iou, box_overlap, clip_box, colour_histogram,
+                                      foreground_mask, histogram_similarity)
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
 
 TRACKED, OCCLUDED, OUT = "tracked", "occluded", "out"
@@ -224,14 +224,6 @@ def _centre(box) -> np.ndarray:
     return np.array([box[0] + box[2] / 2, box[1] + box[3] / 2], float)
 
 
-def _inside(inner, outer) -> float:
-    """Fraction of box ``inner``'s area inside box ``outer`` (both x, y, w, h px)."""
-    ix = max(0.0, min(inner[0] + inner[2], outer[0] + outer[2]) - max(inner[0], outer[0]))
-    iy = max(0.0, min(inner[1] + inner[3], outer[1] + outer[3]) - max(inner[1], outer[1]))
-    area = inner[2] * inner[3]
-    return float(ix * iy / area) if area > 0 else 0.0
-
-
 def _shift(box, d) -> tuple[float, float, float, float]:
     return (box[0] + float(d[0]), box[1] + float(d[1]), box[2], box[3])
 
@@ -395,7 +387,7 @@ class MultiDancerTracker:
                     # just recovered, moving fast and changing shape (e.g. a flip): follow the detector
                     self._restart(d, frame, matches[0], d.confidence)
                 elif len(matches) == 1 and (box_iou(d.box, matches[0]) > c.adapt_min_iou or
-                                            (_inside(matches[0], d.box) > c.adapt_min_containment
+                                            (box_inside(matches[0], d.box) > c.adapt_min_containment
                                              and self._empty_around(frame, d, matches[0]))) and \
                         self._single_person(d, matches[0]):
                     self._adapt_box(d, frame, matches[0])
@@ -760,9 +752,9 @@ class MultiDancerTracker:
                 if c.stacked_extent:
                     left, right = self._stacked_reach(i, fg, poses, margins)
                     target[0], target[2] = max(target[0], left), max(target[2], right)
-            if c.grabcut_extent and fg is not None:
-                left, right = self._grabcut_reach(i, frame, fg, poses, margins)
-                target[0], target[2] = max(target[0], left), max(target[2], right)
+                if c.grabcut_extent:
+                    left, right = self._grabcut_reach(i, frame, fg, poses, margins)
+                    target[0], target[2] = max(target[0], left), max(target[2], right)
             pose = poses[i] if i < len(poses) else None
             if pose is not None and self._pose_extends(d, pose, margins[i], poses):
                 ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
@@ -854,6 +846,11 @@ class MultiDancerTracker:
             reach.append(float(last))
         return reach[0], reach[1]
 
+    def _clear_pose(self, j: int, poses, margins) -> bool:
+        """Whether Algorithm 2* chose a pose for dancer ``j`` clearly (selection margin >= ``pose_margin``)."""
+        return (j < len(poses) and poses[j] is not None and j < len(margins) and margins[j] is not None
+                and margins[j] >= self.config.pose_margin)
+
     def _stacked_reach(self, i: int, fg: np.ndarray, poses, margins) -> tuple[float, float]:
         """Extent (px, left and right of its box) of dancer ``i`` hidden straight behind another dancer, from the
         foreground the front dancer's pose does not explain.
@@ -867,13 +864,11 @@ class MultiDancerTracker:
         d = self.dancers[i]
         if d.status not in (TRACKED, OCCLUDED):
             return 0.0, 0.0
-        if i < len(poses) and poses[i] is not None and margins[i] is not None and margins[i] >= c.pose_margin:
+        if self._clear_pose(i, poses, margins):
             return 0.0, 0.0
         left = right = 0.0
         for j, f in enumerate(self.dancers):
-            if f is d or f.status != TRACKED or j >= len(poses) or poses[j] is None:
-                continue
-            if margins[j] is None or margins[j] < c.pose_margin:
+            if f is d or f.status != TRACKED or not self._clear_pose(j, poses, margins):
                 continue
             if self._bodies_overlap(f.box, d.box) <= c.pose_stack_overlap:
                 continue
@@ -936,15 +931,11 @@ class MultiDancerTracker:
         d = self.dancers[i]
         if d.status not in (TRACKED, OCCLUDED) or not self._overlapping(i, [o.box for o in self.dancers]):
             return 0.0, 0.0
-
-        def clear(j: int) -> bool:
-            return j < len(poses) and poses[j] is not None and j < len(margins) and margins[j] is not None \
-                and margins[j] >= c.pose_margin
-
-        if d.status == OCCLUDED and not clear(i):
+        clear = self._clear_pose(i, poses, margins)
+        if d.status == OCCLUDED and not clear:
             return 0.0, 0.0  # a body strip down its predicted box would lie on the dancer hiding it
         if any(o is not d and o.status != OUT and self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap
-               and not (clear(i) and clear(j)) for j, o in enumerate(self.dancers)):
+               and not (clear and self._clear_pose(j, poses, margins)) for j, o in enumerate(self.dancers)):
             return 0.0, 0.0
         height, width = fg.shape
         x, y, w, h = d.box
