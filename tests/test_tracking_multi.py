@@ -278,3 +278,61 @@ def test_dancer_reenters_at_the_edge_without_detector(tmp_path):
     assert np.mean([iou_matrix(truth.boxes[t, 1:], boxes[t, 1:])[0, 0] for t in after]) > 0.6
     scores = evaluate_tracking(truth.boxes, boxes)
     assert scores.id_switches == 0 and scores.idf1 > 0.9, scores
+
+
+def test_dancer_walking_out_slowly_behind_its_detections_is_out(tmp_path):
+    """A dancer who walks out slowly on the left is detected by the part still in the frame; its box adapts to
+    those narrowing detections and, when nothing of it is left, would stay on the background at the edge. The
+    last detection was cut by the edge and none follows: it is out (no box) for the rest of the clip."""
+    from dataclasses import replace
+
+    from hdvr.tracking.multi import OUT
+
+    specs = default_crossing_specs(num_figures=2, seed=1)
+    specs[1] = replace(specs[1], start=(0.25 * 640, specs[1].start[1]), velocity=(-2.5, 0.0), turn=(-0.3, 0.94))
+    truth = render_clip(tmp_path / "clip.mp4", frames=130, specs=specs, seed=1)
+    gone = ~np.isfinite(truth.boxes[:, 1, 0])
+    assert 30 < gone.sum() and not gone[:80].any()  # the clip does what the test needs
+
+    def detections(t):  # the detector finds the part in the frame while it is at least 0.15 x as wide as tall
+        if t % 3:
+            return None
+        cut = [(max(b[0], 0.0), b[1], min(b[0] + b[2], 640.0) - max(b[0], 0.0), b[3]) for b in truth.boxes[t]
+               if np.isfinite(b).all()]
+        return [b for b in cut if b[2] >= 0.15 * b[3]]
+
+    boxes, status = _run(tmp_path / "clip.mp4", truth, detections)
+    out = np.array([s[1] == OUT for s in status])
+    assert out[gone].all(), np.flatnonzero(out)
+    assert np.isnan(boxes[gone, 1]).all()
+    assert not any(s[0] == OUT for s in status)
+
+
+def test_dancer_at_the_edge_missed_by_the_detector_is_not_out(tmp_path):
+    """A dancer who turns back partly out of the frame, and whom the detector stops finding after a detection cut
+    by the edge, is still there: its box holds foreground, so it is not marked out (without that test it is)."""
+    from dataclasses import replace
+
+    from hdvr.tracking.multi import OUT
+
+    specs = default_crossing_specs(num_figures=2, seed=1)
+    specs[1] = replace(specs[1], start=(0.2 * 640, specs[1].start[1]), velocity=(-2.5, 0.0), turn=(0.04, 0.94))
+    truth = render_clip(tmp_path / "clip.mp4", frames=90, specs=specs, seed=1)
+    assert np.isfinite(truth.boxes[:, 1]).all() and (truth.boxes[:, 1, 0] < 1).any()  # cut by the edge, never out
+
+    def detections(t):  # the figure is found until it reaches the edge, then missed
+        if t % 3:
+            return None
+        cut = [(max(b[0], 0.0), b[1], min(b[0] + b[2], 640.0) - max(b[0], 0.0), b[3]) for b in truth.boxes[t]]
+        return cut if truth.boxes[:t + 1, 1, 0].min() >= 1 or truth.boxes[t, 1, 0] < 1 else cut[:1]
+
+    boxes, status = _run(tmp_path / "clip.mp4", truth, detections)
+    assert not any(s[1] == OUT for s in status), [t for t, s in enumerate(status) if s[1] == OUT]
+    scores = evaluate_tracking(truth.boxes, boxes)
+    assert scores.idf1 > 0.9, scores
+    config = MultiTrackerConfig(exit_max_foreground=1.01)  # every box counts as background
+    tracker, outs = None, []
+    for t, frame in enumerate(VideoReader(tmp_path / "clip.mp4")):
+        tracker = tracker or MultiDancerTracker(frame, truth.boxes[0], config)
+        outs.append(tracker.step(frame, detections(t)).status[1] == OUT if t else False)
+    assert any(outs)

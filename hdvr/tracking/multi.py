@@ -155,6 +155,10 @@ class MultiTrackerConfig:
     edge_reentry: bool = True  # a dancer who left on the left or right is re-identified on a strip at that edge
     # whose histogram matches its memory (:meth:`_reenter_at_edge`); works without a detector
     edge_strip: float = 0.5  # width of that strip, x the dancer's box width
+    exit_missed_detections: int = 2  # a clear dancer whose last detection was cut by the left or right edge is
+    # out after this many detector frames in a row without a person on its box (:meth:`_walked_out`) ...
+    exit_max_foreground: float = 0.2  # ... when at most this fraction of its box's columns hold foreground
+    exit_edge_px: float = 2.0  # px: a detection this close to the frame's side is cut by it
     learn_inside: float = 0.9  # the tracker learns only while at least this fraction of its box is in the frame
 
 
@@ -185,6 +189,7 @@ class DancerTrack:
     last_status: str = TRACKED  # status in the frame before
     adapted_at: int = -1  # last frame in which the box adapted to a detection while clear
     edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
+    detected_at_edge: str | None = None  # "left" or "right": the last detection on the box was cut by that edge
 
     @property
     def body_center(self) -> np.ndarray:
@@ -382,6 +387,11 @@ class MultiDancerTracker:
             if not overlapping and detections is not None:
                 matches = [det for det in detections if box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2]
                 d.missed = 0 if matches else d.missed + 1
+                if matches:
+                    d.detected_at_edge = self._cut_by_edge(matches)
+                elif self._walked_out(frame, d):
+                    self._set_out(d, d.detected_at_edge)
+                    continue
                 if len(matches) == 1 and t <= d.recovering_until and \
                         self._single_person(d, matches[0], c.recovery_height_change):
                     # just recovered, moving fast and changing shape (e.g. a flip): follow the detector
@@ -461,14 +471,39 @@ class MultiDancerTracker:
             return False
         return histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram) < c.failure_histogram
 
-    def _set_out(self, d: DancerTrack) -> None:
+    def _set_out(self, d: DancerTrack, side: str | None = None) -> None:
         """Dancer ``d`` has left the frame: no box until it is re-identified (:meth:`_reenter`,
-        :meth:`_reenter_at_edge`). The edge it left by is where its box overflows the frame most."""
-        d.status, d.confidence, d.missed = OUT, 0.0, 0
+        :meth:`_reenter_at_edge`). The edge it left by is ``side``, by default where its box overflows the frame
+        most."""
+        d.status, d.confidence, d.missed, d.detected_at_edge = OUT, 0.0, 0, None
         x, _, w, _ = d.box
         left, right = -x, x + w - self.frame_size[0]
-        d.exit_side = ("left" if left > right else "right") if max(left, right) > 0 else None
+        d.exit_side = side or (("left" if left > right else "right") if max(left, right) > 0 else None)
         d.edge_empty_score = 1.0
+
+    def _cut_by_edge(self, detections) -> str | None:
+        """"left" or "right" when every one of ``detections`` (x, y, w, h px) reaches that side of the frame
+        (within ``exit_edge_px``): the person is partly out of the frame there; else None."""
+        c, width = self.config, self.frame_size[0]
+        if all(det[0] <= c.exit_edge_px for det in detections):
+            return "left"
+        if all(det[0] + det[2] >= width - c.exit_edge_px for det in detections):
+            return "right"
+        return None
+
+    def _walked_out(self, frame, d: DancerTrack) -> bool:
+        """Whether clear dancer ``d`` has walked out of the frame although its box is still in it: the last
+        detection on its box was cut by the left or right edge, none has held it for ``exit_missed_detections``
+        detector frames, and its box is background (fewer than ``exit_max_foreground`` of its columns hold
+        foreground: :meth:`_foreground_columns`). A dancer walking out slowly is detected by the part still in,
+        its box adapts to those narrowing detections, and when nothing is left the tracker stays on the
+        background at the edge, which its colour memory (learned with background around it) may still match
+        (0.75 on the real two-people video). The foreground test keeps a dancer who is still there but missed by
+        the detector."""
+        if d.detected_at_edge is None or d.missed < self.config.exit_missed_detections:
+            return False
+        fraction = self._foreground_columns(frame, d)
+        return fraction is not None and fraction < self.config.exit_max_foreground
 
     def _edge_strip(self, d: DancerTrack) -> tuple[float, float, float, float]:
         """The strip (px) at the edge dancer ``d`` left by where it would show first when it comes back: the
@@ -599,6 +634,7 @@ class MultiDancerTracker:
         d.offset = np.zeros(2)
         d.tracker.init(frame, self._core(box))
         d.box, d.missed, d.confidence = tuple(float(v) for v in box), 0, float(np.clip(score, 0, 1))
+        d.detected_at_edge = None
         d.centers, d.clear_track = [d.body_center], []
         d.stored_box, d.stored_frame = d.box, self.frame_index
 
@@ -615,31 +651,37 @@ class MultiDancerTracker:
                         for o in self.dancers if o is not d))
 
     def _empty_around(self, frame, d: DancerTrack, detection) -> bool:
-        """Whether the columns of dancer ``d``'s box beside ``detection`` (x, y, w, h px) are background: fewer than
-        ``adapt_max_foreground`` of them hold max(3, ``pixel_min_thickness`` x the box height) foreground pixels
-        (:func:`hdvr.tracking.appearance.foreground_mask`). A box left wide after a dancer got up from the floor is
-        empty there; one around spread arms the detector left out is not (thin arms fill few pixels but many
-        columns). Columns inside other dancers' boxes do not count."""
+        """Whether the columns of dancer ``d``'s box beside ``detection`` (x, y, w, h px) are background (fewer than
+        ``adapt_max_foreground`` of them hold foreground: :meth:`_foreground_columns`). A box left wide after a
+        dancer got up from the floor is empty there; one around spread arms the detector left out is not (thin
+        arms fill few pixels but many columns)."""
+        fraction = self._foreground_columns(frame, d, skip=detection)
+        return fraction is not None and fraction < self.config.adapt_max_foreground
+
+    def _foreground_columns(self, frame, d: DancerTrack, skip=None) -> float | None:
+        """Fraction of the columns of dancer ``d``'s box that hold max(3, ``pixel_min_thickness`` x the box height)
+        foreground pixels (:func:`hdvr.tracking.appearance.foreground_mask`). Columns inside other dancers' boxes
+        (their foreground is theirs) and inside ``skip`` (x, y, w, h px) do not count. None when no column is left
+        or the background cannot be told."""
         c = self.config
         box = d.box
         fg = foreground_mask(frame, [o.box for o in self.dancers if o.status != OUT], margin=c.pixel_margin,
                              opening=c.pixel_opening)
         size = (frame.shape[1], frame.shape[0])
-        r, q = clip_box(box, size), clip_box(detection, size)
-        if fg is None or r is None or q is None:
-            return False
+        r = clip_box(box, size)
+        if fg is None or r is None:
+            return None
         x0, y0, x1, y1 = r
         counts = fg[y0:y1, x0:x1].sum(axis=0)
-        beside = np.ones(x1 - x0, bool)
-        beside[max(0, q[0] - x0):max(0, q[2] - x0)] = False
-        for o in self.dancers:  # foreground in another dancer's box is that dancer's
-            b = clip_box(o.box, size) if o.status != OUT and o is not d else None
+        counted = np.ones(x1 - x0, bool)
+        others = [o.box for o in self.dancers if o.status != OUT and o is not d]
+        for b in [clip_box(b, size) for b in others + ([skip] if skip is not None else [])]:
             if b is not None:
-                beside[max(0, b[0] - x0):max(0, b[2] - x0)] = False
-        if not beside.any():
-            return False
+                counted[max(0, b[0] - x0):max(0, b[2] - x0)] = False
+        if not counted.any():
+            return None
         needed = max(3.0, c.pixel_min_thickness * box[3])
-        return float((counts[beside] >= needed).mean()) < c.adapt_max_foreground
+        return float((counts[counted] >= needed).mean())
 
     def _adapt_box(self, d: DancerTrack, frame, detection, weight: float | None = None, retrack: bool = True) -> None:
         """Move the box of a clear dancer part of the way (``box_adaptation``) towards the one person detected on
@@ -1073,7 +1115,7 @@ class MultiDancerTracker:
         d.offset = np.zeros(2)
         d.box = tuple(float(v) for v in box)
         d.status = TRACKED
-        d.missed = 0
+        d.missed, d.detected_at_edge = 0, None
         d.confidence = float(np.clip(score, 0, 1))
         d.centers = [d.body_center]
         d.clear_track = []
