@@ -247,14 +247,31 @@ def test_a_hidden_dancer_reaches_as_far_as_its_arm_beside_the_one_in_front():
 
 def test_no_stacked_extent_where_the_front_dancers_arm_points_or_the_limb_is_too_long():
     """The detector often ends an arm short of the hand: where the front dancer's forearm points out to the side
-    of the limb, the limb may be its own. A limb longer than ``stacked_max_reach`` x the hidden dancer's height is
-    not the hidden dancer's either."""
+    of the limb, the limb may be its own, and the hidden dancer's box does not grow. A limb longer than
+    ``stacked_max_reach`` x the hidden dancer's height is not the hidden dancer's either."""
     for frame_kp in (_stacked_scene(b_arm_tip=180.0, a_arm_out=True), _stacked_scene(b_arm_tip=120.0)):
         frame, kp_a = frame_kp
         tracker = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES)
         for _ in range(3):
             result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
-        np.testing.assert_allclose(result.boxes, STACKED_BOXES, atol=1e-6)
+        np.testing.assert_allclose(result.boxes[1], STACKED_BOXES[1], atol=1e-6)
+    np.testing.assert_allclose(result.boxes[0], STACKED_BOXES[0], atol=1e-6)  # A's arm does not point there
+
+
+def test_the_front_dancer_takes_the_limb_its_own_arm_points_to():
+    """In a stacked pair the dancer in front (clear pose) reaches as far as the foreground beside it on the side its
+    own forearm points to (its arm, drawn short by the detector); without ``front_extent`` it does not."""
+    frame, kp_a = _stacked_scene(b_arm_tip=180.0, a_arm_out=True)
+    tracker = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES)
+    for _ in range(8):
+        result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
+    a, b = result.boxes
+    assert a[0] < 180 + 10 and a[0] + a[2] == pytest.approx(338.0, abs=1), a
+    np.testing.assert_allclose(b, STACKED_BOXES[1], atol=1e-6)
+    off = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES, MultiTrackerConfig(front_extent=False))
+    for _ in range(3):
+        result = off.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
+    np.testing.assert_allclose(result.boxes, STACKED_BOXES, atol=1e-6)
 
 
 def _crossing_scene(arm_tip=None):

@@ -143,6 +143,8 @@ class MultiTrackerConfig:
     # (shoulder to fingertip is about 0.45 of the stature); a longer limb is not its own
     stacked_arm_out: float = 0.05  # x the front dancer's height: its arm reaching or pointing further out to a side
     # makes a limb on that side possibly its own
+    front_extent: bool = True  # ... and the dancer in front of such a pair as far as foreground runs on from its
+    # box on a side its own skeleton reaches or points to (:meth:`MultiDancerTracker._front_reach`)
     grabcut_extent: bool = True  # ... and a dancer in a group as far as its own GrabCut segment (OpenCV's colour
     # segmentation, seeded from the skeletons) runs on from its box (:meth:`MultiDancerTracker._grabcut_reach`):
     # the foreground alone cannot tell whose limb crosses another dancer's body
@@ -794,6 +796,9 @@ class MultiDancerTracker:
                 if c.stacked_extent:
                     left, right = self._stacked_reach(i, fg, poses, margins)
                     target[0], target[2] = max(target[0], left), max(target[2], right)
+                if c.front_extent:
+                    left, right = self._front_reach(i, fg, poses, margins)
+                    target[0], target[2] = max(target[0], left), max(target[2], right)
                 if c.grabcut_extent:
                     left, right = self._grabcut_reach(i, frame, fg, poses, margins)
                     target[0], target[2] = max(target[0], left), max(target[2], right)
@@ -893,51 +898,79 @@ class MultiDancerTracker:
         return (j < len(poses) and poses[j] is not None and j < len(margins) and margins[j] is not None
                 and margins[j] >= self.config.pose_margin)
 
-    def _stacked_reach(self, i: int, fg: np.ndarray, poses, margins) -> tuple[float, float]:
-        """Extent (px, left and right of its box) of dancer ``i`` hidden straight behind another dancer, from the
-        foreground the front dancer's pose does not explain.
+    def _stacked_pairs(self, fg: np.ndarray, poses, margins):
+        """Dancers standing straight behind one another, with the foreground beside them: yields (d, f, runs,
+        own) for each dancer d (tracked or occluded, no clear pose of its own) behind a tracked dancer f with a
+        clearly chosen pose (margin >= ``pose_margin``). d stands behind f when their body cores overlap more than
+        ``pose_stack_overlap`` and f's box bottom is at least ``pixel_front`` x the height lower in the image.
+        ``runs``: how far (px) foreground runs on from f's box to the left and right at d's arm height
+        (:meth:`_run_reach`). ``own``: per side, whether that limb may be f's: f's skeleton reaches beyond its box
+        there by more than ``stacked_arm_out`` x f's height, or one of its forearms points out to that side by as
+        much (the detector often ends the arm short of the hand)."""
+        c = self.config
+        for i, d in enumerate(self.dancers):
+            if d.status not in (TRACKED, OCCLUDED) or self._clear_pose(i, poses, margins):
+                continue
+            for j, f in enumerate(self.dancers):
+                if f is d or f.status != TRACKED or not self._clear_pose(j, poses, margins):
+                    continue
+                if self._bodies_overlap(f.box, d.box) <= c.pose_stack_overlap:
+                    continue
+                fx, fy, fw, fh = f.box
+                if fy + fh <= d.box[1] + d.box[3] + c.pixel_front * d.box[3]:
+                    continue  # f is not in front of d
+                kp = poses[j].body25()
+                seen = kp[:, 2] > 0
+                if not seen.any():
+                    continue
+                others = [o for o in self.dancers if o is not d and o is not f and o.status != OUT]
+                runs = self._run_reach(f.box, others, fg, limb_box=d.box)
+                skel_left = max(0.0, fx - float(np.min(kp[seen, 0])))
+                skel_right = max(0.0, float(np.max(kp[seen, 0])) - fx - fw)
+                forearms = [kp[w, 0] - kp[e, 0] for e, w in ((3, 4), (6, 7)) if kp[e, 2] > 0 and kp[w, 2] > 0]
+                points = c.stacked_arm_out * fh
+                own = (skel_left > points or any(v < -points for v in forearms),
+                       skel_right > points or any(v > points for v in forearms))
+                yield d, f, runs, own
 
-        Dancer ``i`` (tracked or occluded, no clear pose of its own) stands behind dancer f when their body cores
-        overlap more than ``pose_stack_overlap`` and f's box bottom is at least ``pixel_front`` x the height lower
-        in the image. If f has a clearly chosen pose (margin >= ``pose_margin``), foreground running on from f's box
-        at arm height (:meth:`_run_reach`) further than f's skeleton reaches (its keypoints beyond f's box, plus
-        ``stacked_tolerance`` x f's height) is a limb of a dancer behind f: dancer ``i``'s box reaches as far."""
+    def _stacked_reach(self, i: int, fg: np.ndarray, poses, margins) -> tuple[float, float]:
+        """Extent (px, left and right of its box) of dancer ``i`` hidden straight behind another dancer f
+        (:meth:`_stacked_pairs`): foreground running on from f's box at arm height further than
+        ``stacked_tolerance`` x f's height, on a side where f's own skeleton neither reaches nor points, is a limb
+        of a dancer behind f: dancer ``i``'s box reaches as far, unless that is more than ``stacked_max_reach`` x
+        its height (shoulder to fingertip; a longer limb is not its own)."""
         c = self.config
         d = self.dancers[i]
-        if d.status not in (TRACKED, OCCLUDED):
-            return 0.0, 0.0
-        if self._clear_pose(i, poses, margins):
-            return 0.0, 0.0
         left = right = 0.0
-        for j, f in enumerate(self.dancers):
-            if f is d or f.status != TRACKED or not self._clear_pose(j, poses, margins):
+        for hidden, f, (run_left, run_right), own in self._stacked_pairs(fg, poses, margins):
+            if hidden is not d:
                 continue
-            if self._bodies_overlap(f.box, d.box) <= c.pose_stack_overlap:
-                continue
-            fx, fy, fw, fh = f.box
-            if fy + fh <= d.box[1] + d.box[3] + c.pixel_front * d.box[3]:
-                continue  # f is not in front of d
-            others = [o for o in self.dancers if o is not d and o is not f and o.status != OUT]
-            run_left, run_right = self._run_reach(f.box, others, fg, limb_box=d.box)
-            kp = poses[j].body25()
-            seen = kp[:, 2] > 0
-            if not seen.any():
-                continue
-            skel_left = max(0.0, fx - float(np.min(kp[seen, 0])))
-            skel_right = max(0.0, float(np.max(kp[seen, 0])) - fx - fw)
-            # how far f's forearms point to the left (< 0) and right (> 0): a limb beyond the box on a side its own
-            # arm points to, or reaches out to, may be f's (the detector often ends the arm short of the hand)
-            forearms = [kp[w, 0] - kp[e, 0] for e, w in ((3, 4), (6, 7)) if kp[e, 2] > 0 and kp[w, 2] > 0]
-            points = c.stacked_arm_out * fh
+            fx, _, fw, fh = f.box
             slack = c.stacked_tolerance * fh
             longest = c.stacked_max_reach * d.box[3]  # a longer limb cannot be d's
-            if run_left > slack and skel_left <= points and not any(v < -points for v in forearms):
+            if run_left > slack and not own[0]:
                 reach = d.box[0] - (fx - run_left)
                 left = max(left, reach if reach <= longest else 0.0)
-            if run_right > slack and skel_right <= points and not any(v > points for v in forearms):
+            if run_right > slack and not own[1]:
                 reach = fx + fw + run_right - d.box[0] - d.box[2]
                 right = max(right, reach if reach <= longest else 0.0)
         return max(0.0, left), max(0.0, right)
+
+    def _front_reach(self, i: int, fg: np.ndarray, poses, margins) -> tuple[float, float]:
+        """Extent (px, left and right of its box) of dancer ``i`` standing straight in front of a dancer without a
+        pose (:meth:`_stacked_pairs`; :meth:`_pixel_reach` gives such a pair nothing): on a side where ``i``'s own
+        skeleton reaches or points out, the foreground running on from its box is taken as its arm, up to
+        ``stacked_max_reach`` x its height."""
+        c = self.config
+        d = self.dancers[i]
+        left = right = 0.0
+        for _, front, (run_left, run_right), own in self._stacked_pairs(fg, poses, margins):
+            if front is not d:
+                continue
+            longest = c.stacked_max_reach * d.box[3]
+            left = max(left, min(run_left, longest) if own[0] else 0.0)
+            right = max(right, min(run_right, longest) if own[1] else 0.0)
+        return left, right
 
     def _grabcut_reach(self, i: int, frame, fg: np.ndarray, poses, margins) -> tuple[float, float]:
         """Extent (px, left and right of its box) of dancer ``i`` in a group, from its own segment.
