@@ -787,6 +787,7 @@ class MultiDancerTracker:
         # background would take that background out of the sample and make it foreground, and grow further
         fg = foreground_mask(frame, [d.box for d in self.dancers if d.status != OUT], margin=c.pixel_margin,
                              opening=c.pixel_opening) if c.pixel_extent else None
+        pairs = list(self._stacked_pairs(fg, poses, margins)) if fg is not None else []  # computed once per frame
         for i, d in enumerate(self.dancers):
             if d.status == OUT:
                 continue
@@ -794,10 +795,10 @@ class MultiDancerTracker:
             if fg is not None:
                 target[0], target[2] = self._pixel_reach(d, fg)
                 if c.stacked_extent:
-                    left, right = self._stacked_reach(i, fg, poses, margins)
+                    left, right = self._stacked_reach(i, pairs)
                     target[0], target[2] = max(target[0], left), max(target[2], right)
                 if c.front_extent:
-                    left, right = self._front_reach(i, fg, poses, margins)
+                    left, right = self._front_reach(i, pairs)
                     target[0], target[2] = max(target[0], left), max(target[2], right)
                 if c.grabcut_extent:
                     left, right = self._grabcut_reach(i, frame, fg, poses, margins)
@@ -933,16 +934,16 @@ class MultiDancerTracker:
                        skel_right > points or any(v > points for v in forearms))
                 yield d, f, runs, own
 
-    def _stacked_reach(self, i: int, fg: np.ndarray, poses, margins) -> tuple[float, float]:
+    def _stacked_reach(self, i: int, pairs) -> tuple[float, float]:
         """Extent (px, left and right of its box) of dancer ``i`` hidden straight behind another dancer f
-        (:meth:`_stacked_pairs`): foreground running on from f's box at arm height further than
+        (``pairs``: :meth:`_stacked_pairs`): foreground running on from f's box at arm height further than
         ``stacked_tolerance`` x f's height, on a side where f's own skeleton neither reaches nor points, is a limb
         of a dancer behind f: dancer ``i``'s box reaches as far, unless that is more than ``stacked_max_reach`` x
         its height (shoulder to fingertip; a longer limb is not its own)."""
         c = self.config
         d = self.dancers[i]
         left = right = 0.0
-        for hidden, f, (run_left, run_right), own in self._stacked_pairs(fg, poses, margins):
+        for hidden, f, (run_left, run_right), own in pairs:
             if hidden is not d:
                 continue
             fx, _, fw, fh = f.box
@@ -956,15 +957,15 @@ class MultiDancerTracker:
                 right = max(right, reach if reach <= longest else 0.0)
         return max(0.0, left), max(0.0, right)
 
-    def _front_reach(self, i: int, fg: np.ndarray, poses, margins) -> tuple[float, float]:
+    def _front_reach(self, i: int, pairs) -> tuple[float, float]:
         """Extent (px, left and right of its box) of dancer ``i`` standing straight in front of a dancer without a
-        pose (:meth:`_stacked_pairs`; :meth:`_pixel_reach` gives such a pair nothing): on a side where ``i``'s own
+        pose (``pairs``: :meth:`_stacked_pairs`; :meth:`_pixel_reach` gives such a pair nothing): on a side where ``i``'s own
         skeleton reaches or points out, the foreground running on from its box is taken as its arm, up to
         ``stacked_max_reach`` x its height."""
         c = self.config
         d = self.dancers[i]
         left = right = 0.0
-        for _, front, (run_left, run_right), own in self._stacked_pairs(fg, poses, margins):
+        for _, front, (run_left, run_right), own in pairs:
             if front is not d:
                 continue
             longest = c.stacked_max_reach * d.box[3]
