@@ -336,3 +336,25 @@ def test_dancer_at_the_edge_missed_by_the_detector_is_not_out(tmp_path):
         tracker = tracker or MultiDancerTracker(frame, truth.boxes[0], config)
         outs.append(tracker.step(frame, detections(t)).status[1] == OUT if t else False)
     assert any(outs)
+
+
+def test_detection_cut_by_a_dancer_in_front_keeps_the_hidden_feet():
+    """A detection of a dancer whose legs are hidden behind a dancer in front ends on that dancer's body: when the
+    box adapts to it, the box keeps its bottom (the amodal extent); a detection cut anywhere else is taken as is."""
+    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    behind, front = (300.0, 100.0, 60.0, 200.0), (280.0, 180.0, 120.0, 260.0)  # front's feet lower in the image
+    tracker = MultiDancerTracker(frame, [behind, front])
+    d = tracker.dancers[0]
+    cut = (302.0, 102.0, 58.0, 150.0)  # ends at y 252, on the front dancer's body
+    assert tracker._feet_hidden(d, cut) == pytest.approx((302.0, 102.0, 58.0, 198.0))
+    beside = (302.0, 102.0, 58.0, 150.0)
+    tracker.dancers[1].box = (420.0, 180.0, 120.0, 260.0)  # the front dancer stands aside: nothing hides the legs
+    assert tracker._feet_hidden(d, beside) == beside
+    tracker.dancers[1].box = (280.0, 120.0, 120.0, 170.0)  # now it stands behind (feet higher): not hidden by it
+    assert tracker._feet_hidden(d, cut) == cut
+    off = MultiDancerTracker(frame, [behind, front], MultiTrackerConfig(keep_hidden_feet=False))
+    off._adapt_box(off.dancers[0], frame, cut, weight=1.0, retrack=False)
+    on = MultiDancerTracker(frame, [behind, front])
+    on._adapt_box(on.dancers[0], frame, cut, weight=1.0, retrack=False)
+    bottom = lambda box: box[1] + box[3]  # noqa: E731
+    assert bottom(on.dancers[0].box) == pytest.approx(300.0) and off.dancers[0].box[3] == pytest.approx(150.0)

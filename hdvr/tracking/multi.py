@@ -99,6 +99,8 @@ class MultiTrackerConfig:
     adapt_max_foreground: float = 0.2  # ... and its columns beside the detection are background (at most this
     # fraction with a limb's worth of foreground: :meth:`_empty_around`)
     max_height_change: float = 1.6  # a detection this much taller or shorter than a dancer's box is not it
+    keep_hidden_feet: bool = True  # a detection ending on the body of a dancer in front keeps the box's bottom
+    # when the box adapts to it (:meth:`MultiDancerTracker._feet_hidden`)
     box_adaptation: float = 0.3  # per confirming detection, weight of the detected box in a clear dancer's box
     max_box_offset: float = 0.25  # box centre at most this x its size from the tracker's centre
     max_person_width: float = 2.0  # a detection wider than this x a dancer's box height is not that dancer alone
@@ -695,6 +697,8 @@ class MultiDancerTracker:
         ``box_adaptation``)."""
         c = self.config
         a = c.box_adaptation if weight is None else weight
+        if c.keep_hidden_feet:
+            detection = self._feet_hidden(d, detection)
         centre = np.asarray(d.tracker.center, float)
         detected = np.array(detection[2:], float)
         if d.size_ratio is None and retrack:  # keep the convention of the initial box (e.g. a margin around the
@@ -708,6 +712,24 @@ class MultiDancerTracker:
         if retrack and abs(np.log(size[1] / d.tracker.base_size[1])) > np.log(c.retrack_scale):
             d.offset = np.zeros(2)
             d.tracker.init(frame, self._core(d.box))
+
+    def _feet_hidden(self, d: DancerTrack, detection):
+        """``detection`` (x, y, w, h px) of dancer ``d``, with its bottom moved down to that of ``d``'s box when it
+        ends higher on the body of a dancer standing in front of ``d`` (box bottom ``pixel_front`` x the height
+        lower in the image): the detector sees only the part above, and the amodal box keeps the hidden legs."""
+        c = self.config
+        x, y, w, h = (float(v) for v in detection)
+        bottom, cx = y + h, x + w / 2
+        box_bottom = d.box[1] + d.box[3]
+        if bottom >= box_bottom:
+            return detection
+        for o in self.dancers:
+            if o is d or o.status == OUT:
+                continue
+            ox, oy, ow, oh = o.box
+            if oy + oh > box_bottom + c.pixel_front * d.box[3] and ox <= cx <= ox + ow and oy <= bottom <= oy + oh:
+                return (x, y, w, box_bottom - y)
+        return detection
 
     @staticmethod
     def _fit_score(box, det) -> float:
