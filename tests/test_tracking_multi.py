@@ -358,3 +358,16 @@ def test_detection_cut_by_a_dancer_in_front_keeps_the_hidden_feet():
     on._adapt_box(on.dancers[0], frame, cut, weight=1.0, retrack=False)
     bottom = lambda box: box[1] + box[3]  # noqa: E731
     assert bottom(on.dancers[0].box) == pytest.approx(300.0) and off.dancers[0].box[3] == pytest.approx(150.0)
+
+
+def test_dancer_reidentified_on_a_detection_cut_by_a_dancer_in_front_keeps_its_height():
+    """A hidden dancer taken again on a detection of its upper body (its legs behind a dancer in front) keeps the
+    height of its box instead of shrinking to the visible part for the rest of the occlusion."""
+    frame = np.random.default_rng(1).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    behind, front = (300.0, 100.0, 60.0, 200.0), (280.0, 180.0, 120.0, 260.0)
+    for keep, height in ((True, 198.0), (False, 130.0)):
+        tracker = MultiDancerTracker(frame, [behind, front], MultiTrackerConfig(keep_hidden_feet=keep))
+        d = tracker.dancers[0]
+        d.status = OCCLUDED
+        tracker._take(d, (305.0, 102.0, 50.0, 130.0), 0.8)  # ends at y 232, on the front dancer's body
+        assert d.status == TRACKED and d.box[3] == pytest.approx(height), (keep, d.box)

@@ -1167,6 +1167,8 @@ class MultiDancerTracker:
 
     def _take(self, d: DancerTrack, box, score: float) -> None:
         """Dancer ``d`` is seen again at ``box`` (histogram similarity ``score``): tracking resumes there."""
+        if self.config.keep_hidden_feet:
+            box = self._feet_hidden(d, box)
         d.tracker.center = (box[0] + box[2] / 2, box[1] + box[3] / 2)
         d.offset = np.zeros(2)
         d.box = tuple(float(v) for v in box)
