@@ -662,6 +662,14 @@ class MultiDancerTracker:
         fraction = self._foreground_columns(frame, d, skip=detection)
         return fraction is not None and fraction < self.config.adapt_max_foreground
 
+    def _foreground(self, frame) -> np.ndarray | None:
+        """Foreground mask of ``frame`` (:func:`hdvr.tracking.appearance.foreground_mask`), the background sampled
+        around the tracked boxes of the dancers in the frame (not the reported ones: a reported box grown onto
+        background would take that background out of the sample and make it foreground, and grow further)."""
+        c = self.config
+        return foreground_mask(frame, [d.box for d in self.dancers if d.status != OUT], margin=c.pixel_margin,
+                               opening=c.pixel_opening)
+
     def _foreground_columns(self, frame, d: DancerTrack, skip=None) -> float | None:
         """Fraction of the columns of dancer ``d``'s box that hold max(3, ``pixel_min_thickness`` x the box height)
         foreground pixels (:func:`hdvr.tracking.appearance.foreground_mask`). Columns inside other dancers' boxes
@@ -669,8 +677,7 @@ class MultiDancerTracker:
         or the background cannot be told."""
         c = self.config
         box = d.box
-        fg = foreground_mask(frame, [o.box for o in self.dancers if o.status != OUT], margin=c.pixel_margin,
-                             opening=c.pixel_opening)
+        fg = self._foreground(frame)
         size = (frame.shape[1], frame.shape[0])
         r = clip_box(box, size)
         if fg is None or r is None:
@@ -697,8 +704,7 @@ class MultiDancerTracker:
         ``box_adaptation``)."""
         c = self.config
         a = c.box_adaptation if weight is None else weight
-        if c.keep_hidden_feet:
-            detection = self._feet_hidden(d, detection)
+        detection = self._feet_hidden(d, detection)
         centre = np.asarray(d.tracker.center, float)
         detected = np.array(detection[2:], float)
         if d.size_ratio is None and retrack:  # keep the convention of the initial box (e.g. a margin around the
@@ -716,8 +722,11 @@ class MultiDancerTracker:
     def _feet_hidden(self, d: DancerTrack, detection):
         """``detection`` (x, y, w, h px) of dancer ``d``, with its bottom moved down to that of ``d``'s box when it
         ends higher on the body of a dancer standing in front of ``d`` (box bottom ``pixel_front`` x the height
-        lower in the image): the detector sees only the part above, and the amodal box keeps the hidden legs."""
+        lower in the image): the detector sees only the part above, and the amodal box keeps the hidden legs.
+        Unchanged with ``keep_hidden_feet`` off."""
         c = self.config
+        if not c.keep_hidden_feet:
+            return detection
         x, y, w, h = (float(v) for v in detection)
         bottom, cx = y + h, x + w / 2
         box_bottom = d.box[1] + d.box[3]
@@ -805,10 +814,7 @@ class MultiDancerTracker:
             return self.result()
         a = c.pose_adaptation
         size = (frame.shape[1], frame.shape[0])
-        # the background is sampled around the tracked boxes, not the reported ones: a reported box that grew onto
-        # background would take that background out of the sample and make it foreground, and grow further
-        fg = foreground_mask(frame, [d.box for d in self.dancers if d.status != OUT], margin=c.pixel_margin,
-                             opening=c.pixel_opening) if c.pixel_extent else None
+        fg = self._foreground(frame) if c.pixel_extent else None  # sampled around the tracked boxes
         pairs = list(self._stacked_pairs(fg, poses, margins)) if fg is not None else []  # computed once per frame
         for i, d in enumerate(self.dancers):
             if d.status == OUT:
@@ -1167,8 +1173,7 @@ class MultiDancerTracker:
 
     def _take(self, d: DancerTrack, box, score: float) -> None:
         """Dancer ``d`` is seen again at ``box`` (histogram similarity ``score``): tracking resumes there."""
-        if self.config.keep_hidden_feet:
-            box = self._feet_hidden(d, box)
+        box = self._feet_hidden(d, box)
         d.tracker.center = (box[0] + box[2] / 2, box[1] + box[3] / 2)
         d.offset = np.zeros(2)
         d.box = tuple(float(v) for v in box)
