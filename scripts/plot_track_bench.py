@@ -1,0 +1,99 @@
+"""Plot the synthetic-dancer tracking benchmark: IDF1 per clip, per seed, against the target.
+
+Reads the synthetic-clip tables that ``scripts/bench_track.py --sections synth`` writes (markdown rows
+``| seed | clip_XXXXX genre | dancers | threshold | IDF1 | MOTA | HOTA | ID switches | ...``) from the named sections
+of a markdown file (default docs/benchmarks.md) and draws one dot per clip: x = clip (genre and dancer count),
+y = IDF1, one colour per seed, a ring around clips with identity switches, the 0.9 target as a line.
+
+    python3 scripts/plot_track_bench.py [--markdown docs/benchmarks.md] [--out docs/img/tracking_synth_idf1.png]
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+from pathlib import Path
+
+DEFAULT_SECTIONS = ("### Synthetic dancers with keypoints, seeds 7, 11 and 23 (session 9, final code)",
+                    "### Synthetic dancers, held-out seeds 97, 101, 113 and 127")
+NUMBER = r"\s*(-?[\d.]+)\s*\|"
+# seed | clip_XXXXX genre | dancers | threshold | IDF1 | MOTA | HOTA | ID switches |
+ROW = re.compile(r"^\|\s*(\d+)\s*\|\s*(clip_\d+)\s+(\w+)\s*\|" + NUMBER * 6)
+
+
+def read_rows(text: str, heading: str) -> list[dict]:
+    """The synthetic-clip rows of the section whose heading starts with ``heading``."""
+    start = text.find(heading)
+    if start < 0:
+        raise SystemExit(f"plot_track_bench: error: no section '{heading}' in the markdown file")
+    end = text.find("\n### ", start + len(heading))
+    rows = []
+    for line in text[start:end if end > 0 else None].splitlines():
+        m = ROW.match(line)
+        if m:
+            rows.append({"seed": int(m[1]), "clip": m[2], "genre": m[3], "dancers": int(m[4]),
+                         "idf1": float(m[6]), "switches": int(float(m[9]))})
+    if not rows:
+        raise SystemExit(f"plot_track_bench: error: section '{heading}' has no synthetic-clip rows")
+    return rows
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--markdown", type=Path, default=Path("docs/benchmarks.md"))
+    parser.add_argument("--out", type=Path, default=Path("docs/img/tracking_synth_idf1.png"))
+    parser.add_argument("--sections", nargs="*", default=list(DEFAULT_SECTIONS),
+                        help="section headings (their start) to read")
+    parser.add_argument("--target", type=float, default=0.9)
+    parser.add_argument("--held-out", default="97,101,113,127",
+                        help="seeds rendered after the tracker's rules were written (marked in the legend)")
+    args = parser.parse_args(argv)
+    if not args.markdown.is_file():
+        raise SystemExit(f"plot_track_bench: error: {args.markdown} not found")
+    text = args.markdown.read_text()
+    rows = [r for heading in args.sections for r in read_rows(text, heading)]
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from hdvr.io.atomic import atomic_path
+
+    clips = sorted({(r["clip"], r["genre"], r["dancers"]) for r in rows})
+    seeds = sorted({r["seed"] for r in rows})
+    held_out = {int(v) for v in args.held_out.split(",") if v.strip()}
+    fig, ax = plt.subplots(figsize=(9, 4.2))
+    for k, seed in enumerate(seeds):
+        mine = [r for r in rows if r["seed"] == seed]
+        xs = [clips.index((r["clip"], r["genre"], r["dancers"])) + (k - (len(seeds) - 1) / 2) * 0.09 for r in mine]
+        ax.scatter(xs, [r["idf1"] for r in mine], s=28, zorder=3,
+                   label=f"seed {seed}" + (" (held out)" if seed in held_out else ""))
+        for x, r in zip(xs, mine):
+            if r["switches"]:
+                ax.scatter([x], [r["idf1"]], s=140, facecolors="none", edgecolors="red", linewidths=1.5, zorder=4)
+                ax.annotate(f"{r['switches']} sw", (x, r["idf1"]), textcoords="offset points", xytext=(6, -10),
+                            fontsize=8, color="red")
+    ax.axhline(args.target, color="grey", linestyle="--", linewidth=1)
+    ax.text(len(clips) - 0.5, args.target + 0.004, f"target {args.target:g}", ha="right", va="bottom", fontsize=8,
+            color="grey")
+    ax.set_xticks(range(len(clips)), [f"{g.replace('_', '-')}\n{n} dancers" for _, g, n in clips], fontsize=8)
+    ax.set_ylabel("IDF1 (amodal boxes, IoU 0.5)")
+    low = min(r["idf1"] for r in rows)
+    ax.set_ylim(min(0.75, low - 0.03), 1.01)
+    below = sum(r["idf1"] < args.target for r in rows)
+    switched = sum(r["switches"] > 0 for r in rows)
+    ax.set_title(f"Tracking on hdvr.synth clips: {len(rows)} clips, {below} below {args.target:g}, "
+                 f"{switched} with identity switches (red rings)", fontsize=10)
+    ax.legend(fontsize=8, ncol=min(len(seeds), 4), loc="lower left")
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_path(args.out) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    print(f"wrote {args.out} ({len(rows)} clips)", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
