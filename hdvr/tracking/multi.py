@@ -26,13 +26,9 @@ restarts; after ``long_lost_detections`` such frames the box's own match no long
 follows the detections for ``recovery_frames``. Its stored histogram is only updated on frames where no
 detection is missing on its box.
 
-After Algorithm 2* has chosen each dancer's pose on a detector frame, :meth:`MultiDancerTracker.extend_to_poses`
-lets the *reported* box reach as far as a clearly chosen pose does beyond the tracked box (spread arms of a dancer
-in a group, whose tracked box keeps the size it had when clear), and sideways as far as foreground pixels run on
-from it at arm height (arms the detector left out); a dancer stacked behind another takes the foreground beside
-the front dancer that the front dancer's skeleton does not explain (its arm reaching out); and a dancer in a group
-reaches as far as its own GrabCut segment runs on (a limb crossing another dancer's body). The tracking itself does
-not use these extents.
+After Algorithm 2* has chosen each dancer's pose on a detector frame, the *reported* box may reach beyond the
+tracked one (spread arms, a raised leg): :mod:`hdvr.tracking.extent` (a mixin of this tracker). The tracking itself
+does not use these extents.
 
 A dancer whose box leaves the frame is *out* (no box) until it comes back: on a detection, or without one on the
 strip at the left or right edge it left by, when that strip matches its memory clearly better than the empty edge
@@ -47,16 +43,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import cv2
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from hdvr.pose2d.selection import skeleton_mask
 from hdvr.tracking.appearance import (box_inside, box_iou, box_overlap, clip_box, colour_histogram,
                                       foreground_mask, histogram_similarity)
+from hdvr.tracking.extent import ReportedExtent
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
+from hdvr.tracking.state import OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, box_at, box_centre
 
-TRACKED, OCCLUDED, OUT = "tracked", "occluded", "out"
 
 
 @dataclass(frozen=True)
@@ -166,57 +161,6 @@ class MultiTrackerConfig:
     learn_inside: float = 0.9  # the tracker learns only while at least this fraction of its box is in the frame
 
 
-@dataclass
-class DancerTrack:
-    """State of one dancer in Algorithm 1*."""
-
-    dancer_id: int
-    tracker: LDESTracker
-    box: tuple[float, float, float, float]
-    status: str = TRACKED
-    stored_histogram: np.ndarray | None = None
-    stored_velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
-    stored_box: tuple[float, float, float, float] | None = None  # last box seen clear of others
-    stored_frame: int = 0  # frame of stored_box
-    occlusion_end: int = -1  # predicted frame where the overlap ends
-    occluded_since: int = -1
-    centers: list = field(default_factory=list)  # recent centres (px), newest last
-    missed: int = 0  # detector frames in a row in which no person was detected on this dancer's box
-    clear_track: list = field(default_factory=list)  # (frame, centre) of recent frames clear of others
-    confidence: float = 1.0
-    offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
-    recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
-    size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
-    exit_side: str | None = None  # "left" or "right": the frame edge the dancer left by (None: another or none)
-    growth: np.ndarray = field(default_factory=lambda: np.zeros(4))  # px the reported box extends beyond ``box``
-    # on the left, top, right and bottom (:meth:`MultiDancerTracker.extend_to_poses`)
-    last_status: str = TRACKED  # status in the frame before
-    adapted_at: int = -1  # last frame in which the box adapted to a detection while clear
-    edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
-    detected_at_edge: str | None = None  # "left" or "right": the last detection on the box was cut by that edge
-
-    @property
-    def body_center(self) -> np.ndarray:
-        """Centre (px) of the tracker's body core: motion is measured on it (the box centre also moves when the
-        box adapts to a detection)."""
-        return np.asarray(self.tracker.center, float)
-
-    @property
-    def center(self) -> np.ndarray:
-        x, y, w, h = self.box
-        return np.array([x + w / 2, y + h / 2])
-
-
-@dataclass(frozen=True)
-class FrameResult:
-    """Boxes of all dancers in one frame."""
-
-    frame_index: int
-    boxes: np.ndarray  # (N, 4) float: x, y, w, h px
-    status: tuple[str, ...]  # per dancer: "tracked" or "occluded" (box predicted, not seen)
-    confidence: np.ndarray  # (N,) float in [0, 1]
-
-
 def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
     na, nb = np.linalg.norm(a), np.linalg.norm(b)
     if na < 1e-9 or nb < 1e-9:
@@ -224,20 +168,11 @@ def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(np.dot(a, b) / (na * nb), -1.0, 1.0))))
 
 
-def _box_at(centre, box) -> tuple[float, float, float, float]:
-    """A box of ``box``'s size centred at ``centre`` (px)."""
-    return (float(centre[0]) - box[2] / 2, float(centre[1]) - box[3] / 2, box[2], box[3])
-
-
-def _centre(box) -> np.ndarray:
-    return np.array([box[0] + box[2] / 2, box[1] + box[3] / 2], float)
-
-
 def _shift(box, d) -> tuple[float, float, float, float]:
     return (box[0] + float(d[0]), box[1] + float(d[1]), box[2], box[3])
 
 
-class MultiDancerTracker:
+class MultiDancerTracker(ReportedExtent):
     """Track N dancers from their boxes in the first frame. Call :meth:`step` with each following frame."""
 
     def __init__(self, frame: np.ndarray, boxes, config: MultiTrackerConfig | None = None):
@@ -273,13 +208,6 @@ class MultiDancerTracker:
                           for d in self.dancers], float)
         return FrameResult(self.frame_index, boxes, tuple(d.status for d in self.dancers),
                            np.array([d.confidence if d.status != OUT else 0.0 for d in self.dancers], float))
-
-    @staticmethod
-    def _reported(d: DancerTrack) -> tuple[float, float, float, float]:
-        """The box written for dancer ``d``: its tracked box extended by its growth (:meth:`extend_to_poses`)."""
-        gl, gt, gr, gb = d.growth
-        x, y, w, h = d.box
-        return (x - gl, y - gt, w + gl + gr, h + gt + gb)
 
     def _clipped(self, box) -> tuple[float, float, float, float]:
         """The part of ``box`` inside the frame (px); the box itself if nothing of it is inside."""
@@ -377,7 +305,7 @@ class MultiDancerTracker:
             # template of the background there)
             clear = not self._overlapping(i, prev_boxes) and self._inside_fraction(d.box) >= c.learn_inside
             state = d.tracker.update(frame, learn=clear)
-            d.box = _box_at(np.asarray(state.center) + d.offset, d.box)
+            d.box = box_at(np.asarray(state.center) + d.offset, d.box)
             d.confidence = float(np.clip(state.confidence / 20.0, 0, 1))
             d.centers = (d.centers + [d.body_center])[-(c.motion_window + 1):]
         boxes = [d.box for d in self.dancers]
@@ -439,7 +367,7 @@ class MultiDancerTracker:
         own_boxes = []
         for d in occluded:
             # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
-            own_boxes.append(_box_at(np.asarray(d.tracker.update(frame, learn=False).center) + d.offset, d.box))
+            own_boxes.append(box_at(np.asarray(d.tracker.update(frame, learn=False).center) + d.offset, d.box))
             d.box = self._predicted_box(d, t)
         self._reidentify(frame, occluded, own_boxes, detections)
         for d, own in zip(occluded, own_boxes):
@@ -712,9 +640,9 @@ class MultiDancerTracker:
             d.size_ratio = np.clip(np.array(d.box[2:]) / detected, 1 / c.max_size_ratio, c.max_size_ratio)
         ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
         size = (1 - a) * np.array(d.box[2:]) + a * ratio * detected
-        d.offset = np.clip((1 - a) * d.offset + a * (_centre(detection) - centre), -c.max_box_offset * size,
+        d.offset = np.clip((1 - a) * d.offset + a * (box_centre(detection) - centre), -c.max_box_offset * size,
                            c.max_box_offset * size)
-        d.box = _box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))
+        d.box = box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))
         if retrack and abs(np.log(size[1] / d.tracker.base_size[1])) > np.log(c.retrack_scale):
             d.offset = np.zeros(2)
             d.tracker.init(frame, self._core(d.box))
@@ -777,342 +705,6 @@ class MultiDancerTracker:
             if not 1 / c.max_height_change <= dets[k][3] / d.box[3] <= c.max_height_change:
                 continue
             self._adapt_box(d, frame, dets[k], c.group_adaptation, retrack=False)
-
-    def extend_to_poses(self, frame, poses, margins) -> FrameResult:
-        """Box extent from the poses Algorithm 2* chose (called after it, on detector frames).
-
-        ``poses[i]``: the pose (:class:`hdvr.pose2d.base.PersonPose`) chosen for dancer i in ``frame`` (None if
-        none); ``margins[i]``: how much better its selection score was for dancer i than for any other dancer.
-        A dancer's tracked box keeps its size while it overlaps others, and while clear it adapts only to a
-        detection it overlaps well (IoU > ``adapt_min_iou``); a dancer who spreads its arms meanwhile is wider than
-        that box. The *reported* box of a tracked or occluded dancer therefore grows on each side where the chosen
-        pose's box (scaled by the dancer's box-to-detector size ratio) and its limbs reach beyond the tracked box,
-        by ``pose_adaptation`` of the way per detector frame, when:
-
-        - the choice is clear: margin at least ``pose_margin``;
-        - the pose's box fits the dancer (:meth:`_fit_score` >= ``group_min_score``) and is at most
-          ``pose_max_height`` x as tall (a taller one holds more than this dancer);
-        - no other dancer without a pose of its own stands straight behind or in front of this one (body cores
-          overlapping more than ``pose_stack_overlap``): YOLO attaches the arm of a dancer behind to the skeleton
-          of the one in front, so a limb beside the pair may be either's;
-        - the box did not adapt to a detection in this frame anyway (a clear dancer).
-
-        With ``pixel_extent``, a tracked dancer's box also grows sideways as far as foreground pixels run on from it
-        at arm height (:meth:`_pixel_reach`; YOLO often draws a dancer without its spread arms, and its keypoints
-        then leave them out too), whatever the pose; with ``stacked_extent`` a dancer hidden behind another also
-        as far as the limb beside it that the front dancer's skeleton does not explain (:meth:`_stacked_reach`); with
-        ``grabcut_extent`` a dancer in a group also as far as its own GrabCut segment runs on from its box
-        (:meth:`_grabcut_reach`). Per side, the largest of these extents is approached. ``pose_extent`` off switches
-        all off, ``pixel_extent`` off the last three.
-
-        Elsewhere the growth shrinks by that fraction. The box never shrinks below the tracked box (in a group a
-        detection shows the visible part, which the dancer in front may cut), and the growth changes only the
-        reported box, not the tracking (overlaps, histograms, failure tests, relocation). Returns the frame's
-        result with the reported boxes."""
-        c = self.config
-        if not c.pose_extent:
-            return self.result()
-        a = c.pose_adaptation
-        size = (frame.shape[1], frame.shape[0])
-        fg = self._foreground(frame) if c.pixel_extent else None  # sampled around the tracked boxes
-        pairs = list(self._stacked_pairs(fg, poses, margins)) if fg is not None else []  # computed once per frame
-        for i, d in enumerate(self.dancers):
-            if d.status == OUT:
-                continue
-            target = np.zeros(4)
-            if fg is not None:
-                target[0], target[2] = self._pixel_reach(d, fg)
-                if c.stacked_extent:
-                    left, right = self._stacked_reach(i, pairs)
-                    target[0], target[2] = max(target[0], left), max(target[2], right)
-                if c.front_extent:
-                    left, right = self._front_reach(i, pairs)
-                    target[0], target[2] = max(target[0], left), max(target[2], right)
-                if c.grabcut_extent:
-                    left, right = self._grabcut_reach(i, frame, fg, poses, margins)
-                    target[0], target[2] = max(target[0], left), max(target[2], right)
-            pose = poses[i] if i < len(poses) else None
-            if pose is not None and self._pose_extends(d, pose, margins[i], poses):
-                ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
-                det = _box_at(_centre(pose.box), (0.0, 0.0, *(np.asarray(pose.box[2:], float) * ratio)))
-                x, y, w, h = d.box
-                reach = np.maximum(0.0, [x - det[0], y - det[1], det[0] + det[2] - x - w, det[1] + det[3] - y - h])
-                strips = [(det[0], det[1], reach[0], det[3]), (det[0], det[1], det[2], reach[1]),
-                          (x + w, det[1], reach[2], det[3]), (det[0], y + h, det[2], reach[3])]
-                keypoints = pose.body25()
-                for side, strip in enumerate(strips):
-                    if reach[side] >= 1:  # a limb of the skeleton reaches into the strip beyond the box
-                        mask = skeleton_mask(keypoints, strip, size)
-                        if mask is not None and mask.any():
-                            target[side] = max(target[side], reach[side])
-            d.growth = (1 - a) * d.growth + a * target
-        return self.result()
-
-    def _pixel_reach(self, d: DancerTrack, fg: np.ndarray) -> tuple[float, float]:
-        """How far (px) foreground pixels (``fg``: :func:`hdvr.tracking.appearance.foreground_mask`) run on from
-        tracked dancer ``d``'s box to the left and to the right at arm height (rows ``pixel_band`` of the box).
-        Column by column outwards from the box: a column counts when it holds at least max(3, ``pixel_min_thickness``
-        x the box height) foreground pixels, the run may break for ``pixel_gap`` columns, ends at
-        ``pixel_max_reach`` x the box height, and stops at a column more than ``pixel_max_fill`` foreground (a body
-        beside the box, or background the sample lacked). Where it reaches another dancer's body core it stops,
-        and if that dancer stands level with ``d`` or in front (box bottom not ``pixel_front`` x the height higher
-        in the image), that side gets nothing: the limb may be that dancer's, reaching towards ``d``. Zero for a
-        dancer not seen now or standing straight behind or in front of another (``pose_stack_overlap``).
-
-        Written here as a scan over column counts rather than with ``cv2.connectedComponents``: the dancers' own
-        foreground touches (a group is one component), and what is needed is how far the run goes along one row
-        band, with the stop rules above."""
-        c = self.config
-        if d.status != TRACKED:
-            return 0.0, 0.0
-        others = [o for o in self.dancers if o is not d and o.status != OUT]
-        if any(self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap for o in others):
-            return 0.0, 0.0
-        return self._run_reach(d.box, others, fg)
-
-    def _run_reach(self, box, others, fg: np.ndarray, limb_box=None, own_segment: bool = False,
-                   rows=None) -> tuple[float, float]:
-        """The column scan of :meth:`_pixel_reach` from the sides of ``box`` (x, y, w, h px), with the body cores
-        of dancers ``others`` as stops: how far (px) foreground runs on to the left and to the right of the box.
-        Rows, thickness and reach scale with ``limb_box`` (default ``box``): the box of the dancer whose limb is
-        sought; ``rows`` (default ``pixel_band``) are the rows scanned, x its height from its top. With
-        ``own_segment`` (``fg`` is this dancer's own segment, :meth:`_grabcut_reach`) only the cores of dancers level
-        with it stop the run (that side gets nothing): the segmentation has already left out the bodies of those
-        behind it and in front of it."""
-        c = self.config
-        x, _, w, _ = box
-        _, y, _, h = box if limb_box is None else limb_box
-        height, width = fg.shape
-        band = c.pixel_band if rows is None else rows
-        r0, r1 = int(max(0, y + band[0] * h)), int(min(height, y + band[1] * h))
-        if r1 - r0 < 2:
-            return 0.0, 0.0
-        counts = fg[r0:r1].sum(axis=0)
-        # columns of other dancers' body cores at these rows: 1 where this dancer stands in front of that dancer
-        # (box bottom lower in the image: its arm may cross the other's body), -1 where behind or level
-        cores = np.zeros(width, int)
-        for o in others:
-            ox, oy, ow, oh = self._core(o.box)
-            if oy < r1 and oy + oh > r0:
-                span = slice(max(0, int(ox)), max(0, int(np.ceil(ox + ow))))
-                in_front = y + h > o.box[1] + o.box[3] + c.pixel_front * h
-                if own_segment and o.box[1] + o.box[3] > y + h + c.pixel_front * h:
-                    continue  # o stands in front: its skeleton was a background seed
-                cores[span] = np.where(cores[span] < 0, -1, 1 if in_front else -1)
-        needed = max(3.0, c.pixel_min_thickness * h)
-        full = counts > c.pixel_max_fill * (r1 - r0)
-        limit = c.pixel_max_reach * h
-        reach = []
-        for edge, step in ((int(np.floor(x)) - 1, -1), (int(np.ceil(x + w)), 1)):
-            last, gap, col = 0, 0, edge
-            while 0 <= col < width and abs(col - edge) < limit and not full[col]:
-                if cores[col] > 0 and own_segment:
-                    pass  # the limb crosses the body of a dancer behind this one
-                elif cores[col] != 0:  # the run reaches another dancer's body: it stops there, and if that dancer
-                    # stands in front or level, the limb may be that dancer's, reaching towards this one
-                    last = last if cores[col] > 0 else 0
-                    break
-                if counts[col] >= needed:
-                    last, gap = abs(col - edge) + 1, 0
-                else:
-                    gap += 1
-                    if gap > c.pixel_gap:
-                        break
-                col += step
-            reach.append(float(last))
-        return reach[0], reach[1]
-
-    def _clear_pose(self, j: int, poses, margins) -> bool:
-        """Whether Algorithm 2* chose a pose for dancer ``j`` clearly (selection margin >= ``pose_margin``)."""
-        return (j < len(poses) and poses[j] is not None and j < len(margins) and margins[j] is not None
-                and margins[j] >= self.config.pose_margin)
-
-    def _stacked_pairs(self, fg: np.ndarray, poses, margins):
-        """Dancers standing straight behind one another, with the foreground beside them: yields (d, f, runs,
-        own) for each dancer d (tracked or occluded, no clear pose of its own) behind a tracked dancer f with a
-        clearly chosen pose (margin >= ``pose_margin``). d stands behind f when their body cores overlap more than
-        ``pose_stack_overlap`` and f's box bottom is at least ``pixel_front`` x the height lower in the image.
-        ``runs``: how far (px) foreground runs on from f's box to the left and right at d's arm height
-        (:meth:`_run_reach`). ``own``: per side, whether that limb may be f's: f's skeleton reaches beyond its box
-        there by more than ``stacked_arm_out`` x f's height, or one of its forearms points out to that side by as
-        much (the detector often ends the arm short of the hand)."""
-        c = self.config
-        for i, d in enumerate(self.dancers):
-            if d.status not in (TRACKED, OCCLUDED) or self._clear_pose(i, poses, margins):
-                continue
-            for j, f in enumerate(self.dancers):
-                if f is d or f.status != TRACKED or not self._clear_pose(j, poses, margins):
-                    continue
-                if self._bodies_overlap(f.box, d.box) <= c.pose_stack_overlap:
-                    continue
-                fx, fy, fw, fh = f.box
-                if fy + fh <= d.box[1] + d.box[3] + c.pixel_front * d.box[3]:
-                    continue  # f is not in front of d
-                kp = poses[j].body25()
-                seen = kp[:, 2] > 0
-                if not seen.any():
-                    continue
-                others = [o for o in self.dancers if o is not d and o is not f and o.status != OUT]
-                runs = self._run_reach(f.box, others, fg, limb_box=d.box)
-                skel_left = max(0.0, fx - float(np.min(kp[seen, 0])))
-                skel_right = max(0.0, float(np.max(kp[seen, 0])) - fx - fw)
-                forearms = [kp[w, 0] - kp[e, 0] for e, w in ((3, 4), (6, 7)) if kp[e, 2] > 0 and kp[w, 2] > 0]
-                points = c.stacked_arm_out * fh
-                own = (skel_left > points or any(v < -points for v in forearms),
-                       skel_right > points or any(v > points for v in forearms))
-                yield d, f, runs, own
-
-    def _stacked_reach(self, i: int, pairs) -> tuple[float, float]:
-        """Extent (px, left and right of its box) of dancer ``i`` hidden straight behind another dancer f
-        (``pairs``: :meth:`_stacked_pairs`): foreground running on from f's box at arm height further than
-        ``stacked_tolerance`` x f's height, on a side where f's own skeleton neither reaches nor points, is a limb
-        of a dancer behind f: dancer ``i``'s box reaches as far, unless that is more than ``stacked_max_reach`` x
-        its height (shoulder to fingertip; a longer limb is not its own)."""
-        c = self.config
-        d = self.dancers[i]
-        left = right = 0.0
-        for hidden, f, (run_left, run_right), own in pairs:
-            if hidden is not d:
-                continue
-            fx, _, fw, fh = f.box
-            slack = c.stacked_tolerance * fh
-            longest = c.stacked_max_reach * d.box[3]  # a longer limb cannot be d's
-            if run_left > slack and not own[0]:
-                reach = d.box[0] - (fx - run_left)
-                left = max(left, reach if reach <= longest else 0.0)
-            if run_right > slack and not own[1]:
-                reach = fx + fw + run_right - d.box[0] - d.box[2]
-                right = max(right, reach if reach <= longest else 0.0)
-        return max(0.0, left), max(0.0, right)
-
-    def _front_reach(self, i: int, pairs) -> tuple[float, float]:
-        """Extent (px, left and right of its box) of dancer ``i`` standing straight in front of a dancer without a
-        pose (``pairs``: :meth:`_stacked_pairs`; :meth:`_pixel_reach` gives such a pair nothing): on a side where ``i``'s own
-        skeleton reaches or points out, the foreground running on from its box is taken as its arm, up to
-        ``stacked_max_reach`` x its height."""
-        c = self.config
-        d = self.dancers[i]
-        left = right = 0.0
-        for _, front, (run_left, run_right), own in pairs:
-            if front is not d:
-                continue
-            longest = c.stacked_max_reach * d.box[3]
-            left = max(left, min(run_left, longest) if own[0] else 0.0)
-            right = max(right, min(run_right, longest) if own[1] else 0.0)
-        return left, right
-
-    def _grabcut_reach(self, i: int, frame, fg: np.ndarray, poses, margins) -> tuple[float, float]:
-        """Extent (px, left and right of its box) of dancer ``i`` in a group, from its own segment.
-
-        Where a dancer's arm crosses the body of another, the foreground (``fg``) runs on as one region and the
-        column scan of :meth:`_pixel_reach` must stop at the other's body. GrabCut (OpenCV's ``cv2.grabCut``: a
-        colour model of the dancer and one of everything else, both re-fitted, and a graph cut with a smoothness
-        term, seeded from what the tracker knows) separates this dancer's pixels from those of the dancers around
-        it, so that its limb can be followed across them; no other per-person segmentation is at hand on the
-        frames (the person masks of a pose model gave the front dancer's mask on a hidden dancer's crop).
-
-        Only for a dancer whose body core overlaps another's (a clear dancer is handled by the detections and
-        :meth:`_pixel_reach`), tracked, or occluded with a clearly chosen pose (margin >= ``pose_margin``; the middle
-        of an occluded dancer's predicted box is mostly the dancer hiding it); and not for one stacked straight
-        behind or in front of another (cores overlapping more than ``pose_stack_overlap``) unless both have a
-        clearly chosen pose: a body strip seed would be either dancer's, and a limb beside the pair may be either's
-        (on a drawn stacked pair the front dancer's segment took the hidden one's arm). On a crop of the frame (the
-        box's rows, the box widened by ``grabcut_widen`` x its height on each side) at ``grabcut_scale``,
-        ``grabcut_iterations`` iterations, seeded with:
-
-        - sure foreground: the skeleton of the pose chosen for the dancer, or without one a strip down the middle of
-          its box (15 % to 85 % of its height), ``grabcut_seed_thickness`` x its height thick, where foreground and
-          inside its box (a keypoint beyond the box may lie on another dancer's limb);
-        - sure background: pixels ``fg`` marks as background, and the skeletons (strips) of the other dancers that
-          stand level with it or in front (box bottom not ``pixel_front`` x its height higher in the image);
-        - probably foreground: the other foreground pixels inside its box; probably background: the rest (dancers
-          behind it too: its limbs may cross them).
-
-        The part of the segment connected to the sure foreground is scanned like foreground by :meth:`_run_reach`
-        over rows ``grabcut_rows`` of the box, passing over the body cores of dancers behind and in front of it.
-        The OpenCV random generator is seeded before each cut (its k-means start), so a frame gives one result."""
-        c = self.config
-        d = self.dancers[i]
-        if d.status not in (TRACKED, OCCLUDED) or not self._overlapping(i, [o.box for o in self.dancers]):
-            return 0.0, 0.0
-        clear = self._clear_pose(i, poses, margins)
-        if d.status == OCCLUDED and not clear:
-            return 0.0, 0.0  # a body strip down its predicted box would lie on the dancer hiding it
-        if any(o is not d and o.status != OUT and self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap
-               and not (clear and self._clear_pose(j, poses, margins)) for j, o in enumerate(self.dancers)):
-            return 0.0, 0.0
-        height, width = fg.shape
-        x, y, w, h = d.box
-        x0, x1 = int(max(0, x - c.grabcut_widen * h)), int(min(width, np.ceil(x + w + c.grabcut_widen * h)))
-        y0, y1 = int(max(0, y)), int(min(height, np.ceil(y + h)))
-        if x1 - x0 < 8 or y1 - y0 < 8:
-            return 0.0, 0.0
-
-        def seed(j: int) -> np.ndarray:
-            """The skeleton of dancer j's chosen pose, or a strip down the middle of its box, on the crop (bool)."""
-            o, p = self.dancers[j], poses[j] if j < len(poses) else None
-            mask = None if p is None else skeleton_mask(p.body25(), p.box, (width, height), c.grabcut_seed_thickness)
-            if mask is None or not mask.any():
-                mask = np.zeros((height, width), np.uint8)
-                ox, oy, ow, oh = o.box
-                half, mid = max(1.0, c.grabcut_seed_thickness * oh / 2), ox + ow / 2
-                cv2.rectangle(mask, (int(mid - half), int(oy + 0.15 * oh)), (int(np.ceil(mid + half)),
-                                                                             int(oy + 0.85 * oh)), 255, -1)
-            return mask[y0:y1, x0:x1] > 0
-
-        f = fg[y0:y1, x0:x1]
-        labels = np.full(f.shape, cv2.GC_PR_BGD, np.uint8)
-        bx0, bx1 = int(max(0, x - x0)), int(min(x1 - x0, np.ceil(x + w - x0)))
-        inside = labels[:, bx0:bx1]
-        inside[f[:, bx0:bx1]] = cv2.GC_PR_FGD
-        labels[~f] = cv2.GC_BGD
-        for j, o in enumerate(self.dancers):
-            if o is not d and o.status != OUT and o.box[1] + o.box[3] >= y + h - c.pixel_front * h:
-                labels[seed(j) & f] = cv2.GC_BGD  # level or in front: its limbs are not this dancer's
-        own = seed(i) & f
-        own[:, :bx0] = False  # inside its box only: a keypoint beyond it may lie on another dancer's limb
-        own[:, bx1:] = False
-        labels[own] = cv2.GC_FGD
-        if own.sum() < 5 or not (labels == cv2.GC_BGD).any():
-            return 0.0, 0.0
-        crop = np.ascontiguousarray(frame[y0:y1, x0:x1])
-        s = c.grabcut_scale
-        if s != 1.0:
-            small = (max(2, int(round((x1 - x0) * s))), max(2, int(round((y1 - y0) * s))))
-            crop = cv2.resize(crop, small, interpolation=cv2.INTER_AREA)
-            labels = cv2.resize(labels, small, interpolation=cv2.INTER_NEAREST)
-            own = cv2.resize(own.astype(np.uint8), small, interpolation=cv2.INTER_AREA) > 0  # keeps thin seeds
-            labels[own] = cv2.GC_FGD
-        cv2.setRNGSeed(0)  # its k-means start: one result per frame (reseeds OpenCV's generator of this thread)
-        try:
-            cv2.grabCut(crop, labels, None, np.zeros((1, 65)), np.zeros((1, 65)), c.grabcut_iterations,
-                        cv2.GC_INIT_WITH_MASK)
-        except cv2.error:  # e.g. no background sample left in the crop
-            return 0.0, 0.0
-        segment = ((labels == cv2.GC_FGD) | (labels == cv2.GC_PR_FGD)).astype(np.uint8)
-        _, parts = cv2.connectedComponents(segment)
-        keep = np.unique(parts[own & (segment > 0)])
-        keep = keep[keep > 0]
-        if not keep.size:
-            return 0.0, 0.0
-        mine = cv2.resize(np.isin(parts, keep).astype(np.uint8), (x1 - x0, y1 - y0), interpolation=cv2.INTER_NEAREST)
-        full = np.zeros((height, width), bool)
-        full[y0:y1, x0:x1] = mine > 0
-        others = [o for o in self.dancers if o is not d and o.status != OUT]
-        return self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows)
-
-    def _pose_extends(self, d: DancerTrack, pose, margin, poses) -> bool:
-        """Whether ``pose``, chosen for dancer ``d`` with selection ``margin``, may extend its reported box (the
-        conditions of :meth:`extend_to_poses`)."""
-        c = self.config
-        if margin is None or margin < c.pose_margin or d.adapted_at == self.frame_index:
-            return False
-        if self._fit_score(d.box, pose.box) < c.group_min_score or \
-                not 1 / c.max_height_change <= pose.box[3] / d.box[3] <= c.pose_max_height:
-            return False
-        return not any(o is not d and o.status != OUT and (j >= len(poses) or poses[j] is None)
-                       and self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap
-                       for j, o in enumerate(self.dancers))
 
     @staticmethod
     def _fit_velocity(track, max_speed: float = np.inf) -> np.ndarray:
@@ -1229,8 +821,8 @@ class MultiDancerTracker:
         candidates = []
         for d, own in zip(occluded, own_boxes):
             radius = c.min_search_radius * d.box[3] * 2
-            near = [det for det in free if min(np.linalg.norm(_centre(det) - d.center),
-                                               np.linalg.norm(_centre(det) - _centre(d.stored_box))) <= radius]
+            near = [det for det in free if min(np.linalg.norm(box_centre(det) - d.center),
+                                               np.linalg.norm(box_centre(det) - box_centre(d.stored_box))) <= radius]
             candidates.append((d, [box for box in near if clear(box, True)] + ([own] if clear(own, False) else [])))
         for d, box, score in self._histogram_matches(frame, candidates, occluded):
             self._take(d, box, score)

@@ -1,0 +1,75 @@
+"""State of Algorithm 1*: one dancer's track, one frame's result, and the box helpers the tracker's modules share.
+
+Boxes are (x, y, w, h) pixels, top-left corner; velocities px/frame; frames are 0-based indices.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hdvr.tracking.ldes import LDESTracker
+
+TRACKED, OCCLUDED, OUT = "tracked", "occluded", "out"
+
+
+@dataclass
+class DancerTrack:
+    """State of one dancer in Algorithm 1*."""
+
+    dancer_id: int
+    tracker: LDESTracker
+    box: tuple[float, float, float, float]
+    status: str = TRACKED
+    stored_histogram: np.ndarray | None = None
+    stored_velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    stored_box: tuple[float, float, float, float] | None = None  # last box seen clear of others
+    stored_frame: int = 0  # frame of stored_box
+    occlusion_end: int = -1  # predicted frame where the overlap ends
+    occluded_since: int = -1
+    centers: list = field(default_factory=list)  # recent centres (px), newest last
+    missed: int = 0  # detector frames in a row in which no person was detected on this dancer's box
+    clear_track: list = field(default_factory=list)  # (frame, centre) of recent frames clear of others
+    confidence: float = 1.0
+    offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
+    recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
+    size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
+    exit_side: str | None = None  # "left" or "right": the frame edge the dancer left by (None: another or none)
+    growth: np.ndarray = field(default_factory=lambda: np.zeros(4))  # px the reported box extends beyond ``box``
+    # on the left, top, right and bottom (:meth:`hdvr.tracking.extent.ReportedExtent.extend_to_poses`)
+    last_status: str = TRACKED  # status in the frame before
+    adapted_at: int = -1  # last frame in which the box adapted to a detection while clear
+    edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
+    detected_at_edge: str | None = None  # "left" or "right": the last detection on the box was cut by that edge
+
+    @property
+    def body_center(self) -> np.ndarray:
+        """Centre (px) of the tracker's body core: motion is measured on it (the box centre also moves when the
+        box adapts to a detection)."""
+        return np.asarray(self.tracker.center, float)
+
+    @property
+    def center(self) -> np.ndarray:
+        x, y, w, h = self.box
+        return np.array([x + w / 2, y + h / 2])
+
+
+@dataclass(frozen=True)
+class FrameResult:
+    """Boxes of all dancers in one frame."""
+
+    frame_index: int
+    boxes: np.ndarray  # (N, 4) float: x, y, w, h px
+    status: tuple[str, ...]  # per dancer: "tracked" or "occluded" (box predicted, not seen)
+    confidence: np.ndarray  # (N,) float in [0, 1]
+
+
+def box_at(centre, box) -> tuple[float, float, float, float]:
+    """A box of ``box``'s size centred at ``centre`` (px)."""
+    return (float(centre[0]) - box[2] / 2, float(centre[1]) - box[3] / 2, box[2], box[3])
+
+
+def box_centre(box) -> np.ndarray:
+    """Centre (x, y) px of an (x, y, w, h) box."""
+    return np.array([box[0] + box[2] / 2, box[1] + box[3] / 2], float)

@@ -1,0 +1,22 @@
+"""Per-dancer state and box helpers of Algorithm 1* (hdvr.tracking.state)."""
+
+import numpy as np
+
+from hdvr.tracking.state import TRACKED, DancerTrack, box_at, box_centre
+
+
+def test_box_at_keeps_the_size_and_centres_it():
+    box = box_at((100.0, 50.0), (0.0, 0.0, 40.0, 80.0))
+    assert box == (80.0, 10.0, 40.0, 80.0)
+    np.testing.assert_allclose(box_centre(box), [100.0, 50.0])
+
+
+def test_dancer_centre_is_the_box_centre_and_starts_tracked_without_growth():
+    class Tracker:  # only the attribute DancerTrack reads for body_center
+        center = (12.0, 34.0)
+
+    d = DancerTrack(dancer_id=0, tracker=Tracker(), box=(10.0, 20.0, 30.0, 60.0))
+    assert d.status == TRACKED
+    np.testing.assert_allclose(d.center, [25.0, 50.0])
+    np.testing.assert_allclose(d.body_center, [12.0, 34.0])
+    assert not d.growth.any() and d.growth.shape == (4,)
