@@ -19,7 +19,7 @@ markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown 
    cost of the smaller input from that of tracking and interpolation.
 5. Identity: procedural crossing clips with 2, 3 and 4 dancers over several seeds (``--seeds``), tracker alone
    and full ``track_video`` with the default detector setting; IDF1, MOTA, HOTA, identity switches per seed and
-   the median.
+   the median. ``troupe``: the same for groups of 6 and 8 dancers in two rows (``troupe_specs``).
 6. Synthetic dancers: small multi-dancer clips rendered by ``hdvr.synth`` (couple and group genres, 2-4
    dancers) in a temporary folder, tracked from their ground-truth first boxes and scored against their MOT
    ground truth; per clip also the fraction of detector frames in which each dancer got a pose, at two detector
@@ -27,7 +27,7 @@ markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown 
 
 Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--seeds 6] [--seed-start 0]
                                       [--synth-seeds 7,11,23] [--synth-thresholds 0.3,0.15]
-                                      [--sections speed,real,memory,detector,identity,synth]
+                                      [--sections speed,real,memory,detector,identity,troupe,synth]
                                       [--markdown docs/benchmarks.md]
 """
 
@@ -56,7 +56,7 @@ from hdvr.pose2d.onnx_pose import OnnxPoseDetector  # noqa: E402
 from hdvr.layouts import COCO17_NAMES  # noqa: E402
 from hdvr.tracking.evaluation import body25_joints_of, evaluate_tracking, pck, visible_truth_keypoints  # noqa: E402
 from hdvr.tracking.pipeline import find_dancers, track_video  # noqa: E402
-from hdvr.tracking.testclips import default_crossing_specs, render_clip  # noqa: E402
+from hdvr.tracking.testclips import default_crossing_specs, render_clip, troupe_specs  # noqa: E402
 from hdvr.video import VideoReader, VideoWriter  # noqa: E402
 from benchdoc import cpu_name  # noqa: E402
 
@@ -91,8 +91,8 @@ def main() -> int:
     parser.add_argument("--markdown", type=Path, help="also write the markdown section to this file")
     parser.add_argument("--settings", help="detector settings SIZExEVERY, comma-separated (default "
                         + ",".join(f"{a}x{b}" for a, b in SETTINGS) + "); the first is the reference")
-    parser.add_argument("--sections", default="speed,real,memory,detector,identity,synth",
-                        help="comma-separated subset of speed, real, memory, detector, identity, synth")
+    parser.add_argument("--sections", default="speed,real,memory,detector,identity,troupe,synth",
+                        help="comma-separated subset of speed, real, memory, detector, identity, troupe, synth")
     parser.add_argument("--seeds", type=int, default=6, help="procedural clips per dancer count (identity)")
     parser.add_argument("--seed-start", type=int, default=0, help="first seed of the identity clips (seeds 0-5 "
                         "were used while tuning; 6 and up are held out)")
@@ -130,6 +130,8 @@ def main() -> int:
         lines += detector_section(model)
     if "identity" in sections:
         lines += identity_section(args, model, tmp)
+    if "troupe" in sections:
+        lines += identity_section(args, model, tmp, troupe=True)
     if "synth" in sections:
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")])
@@ -263,22 +265,26 @@ def _score_row(dancers: int, mode: str, scores: list) -> str:
             f"{per_seed('mota', '.2f')} | {per_seed('hota', '.2f')} | {med[0]:.3f} / {med[1]:.3f} / {med[2]:.3f} |")
 
 
-def identity_section(args, model, tmp, frames: int = 150) -> list[str]:
-    """Identity through crossings of 2-4 procedural dancers, tracker alone and with the default detector."""
+def identity_section(args, model, tmp, frames: int = 150, troupe: bool = False) -> list[str]:
+    """Identity through crossings of 2-4 procedural dancers (``troupe``: groups of 6 and 8 in two rows,
+    :func:`hdvr.tracking.testclips.troupe_specs`), tracker alone and with the default detector."""
     detector = OnnxPoseDetector(model, input_size=480, threads=2)
     seeds = range(args.seed_start, args.seed_start + args.seeds)
-    lines = [f"### Identity through crossings: procedural clips, 2-4 dancers, {frames} frames, seeds {seeds[0]}-"
+    counts = (6, 8) if troupe else (2, 3, 4)
+    what = "groups of 6 and 8 dancers in two rows" if troupe else "2-4 dancers"
+    lines = [f"### Identity through crossings: procedural clips, {what}, {frames} frames, seeds {seeds[0]}-"
              f"{seeds[-1]}", "",
              "Tracker alone (Algorithm 1*, no detector) and `hdvr track`'s default (YOLO11n-pose at 480 px on every "
              "3rd frame; it finds the stick figures on few frames), started from the true first-frame boxes.", "",
              "| dancers | mode | IDF1 per seed | ID switches per seed | MOTA per seed | HOTA per seed | "
              "median IDF1 / MOTA / HOTA |", "|---|---|---|---|---|---|---|"]
-    for n in (2, 3, 4):
+    for n in counts:
         clips = []
         for seed in seeds:
             path = tmp / f"identity-{n}-{seed}.mp4"
-            clips.append((path, render_clip(path, frames=frames, specs=default_crossing_specs(num_figures=n,
-                                                                                               seed=seed), seed=seed)))
+            specs = troupe_specs(num_figures=n, seed=seed) if troupe else default_crossing_specs(num_figures=n,
+                                                                                                 seed=seed)
+            clips.append((path, render_clip(path, frames=frames, specs=specs, seed=seed)))
         for mode, det in (("tracker only", None), ("detector 480 px / 3rd frame", detector)):
             scores = [evaluate_tracking(truth.boxes, track_video(path, tmp / "identity-out", detector=det,
                                                                  boxes=truth.boxes[0], detect_every=3,

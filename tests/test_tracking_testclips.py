@@ -1,6 +1,9 @@
 import numpy as np
 
-from hdvr.tracking.testclips import _bounce, default_crossing_specs, render_clip
+import pytest
+
+from hdvr.tracking.evaluation import iou_matrix
+from hdvr.tracking.testclips import _bounce, default_crossing_specs, render_clip, troupe_specs
 from hdvr.video import VideoReader
 
 
@@ -25,3 +28,18 @@ def test_bounce():
     assert _bounce(12, 0, 10) == 8
     assert _bounce(-3, 0, 10) == 3
     assert _bounce(25, 0, 10) == 5
+
+
+def test_troupe_starts_side_by_side_in_two_rows_and_is_deterministic(tmp_path):
+    specs = troupe_specs(num_figures=8, seed=3)
+    assert specs == troupe_specs(num_figures=8, seed=3)
+    back, front = [s for s in specs if s.depth >= 1.0], [s for s in specs if s.depth < 1.0]
+    assert len(back) == len(front) == 4
+    assert max(s.height for s in back) < min(s.height for s in front)  # the back row is farther: smaller
+    assert len({s.colours for s in specs}) == 8
+    truth = render_clip(tmp_path / "t.mp4", frames=3, specs=specs, seed=3)
+    overlaps = iou_matrix(truth.boxes[0], truth.boxes[0])
+    np.fill_diagonal(overlaps, 0)
+    assert overlaps.max() < 0.2  # side by side in the first frame, not stacked
+    with pytest.raises(ValueError):
+        troupe_specs(num_figures=9)

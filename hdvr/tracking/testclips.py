@@ -134,6 +134,34 @@ def default_crossing_specs(size=(640, 480), num_figures: int = 2, seed: int = 0)
     return specs
 
 
+#: clothes of clearly different colours for up to 8 figures (BGR stripe pairs)
+TROUPE_PALETTE = (((30, 30, 200), (40, 200, 230)), ((200, 60, 30), (230, 220, 90)), ((30, 170, 30), (20, 20, 20)),
+                  ((240, 240, 240), (150, 30, 150)), ((0, 120, 255), (90, 0, 60)), ((200, 200, 0), (60, 60, 140)),
+                  ((120, 0, 160), (0, 230, 140)), ((20, 80, 20), (220, 160, 255)))
+
+
+def troupe_specs(size=(640, 480), num_figures: int = 6, seed: int = 0) -> list[FigureSpec]:
+    """A group of 5 to 8 figures in two rows, side by side in the first frame (start positions spread evenly
+    across the width, alternately in the back row, smaller and higher in the image: farther from the camera, and
+    in the front row), every figure walking left or right at its own speed (1.2-3.2 px/frame) and turning back at
+    the edges: figures of one row cross head-on and overtake each other, and the front row hides the legs and
+    bodies of the back row as they pass."""
+    if not 5 <= num_figures <= len(TROUPE_PALETTE):
+        raise ValueError(f"5 to {len(TROUPE_PALETTE)} figures")
+    rng = np.random.default_rng(seed)
+    w, h = size
+    specs = []
+    for i in range(num_figures):
+        back = i % 2 == 0
+        height_frac, y_frac, depth = (0.40, 0.42, 1.0) if back else (0.52, 0.62, 0.0)
+        x0 = w * (0.08 + 0.84 * (i + 0.5) / num_figures)
+        speed = rng.uniform(1.2, 3.2) * rng.choice([-1.0, 1.0])
+        height = h * height_frac * rng.uniform(0.95, 1.05)
+        specs.append(FigureSpec((x0, h * y_frac + rng.uniform(-0.02, 0.02) * h), (speed, 0.0), height,
+                                TROUPE_PALETTE[i], depth=depth + 0.01 * i, phase=rng.uniform(0, 6.3)))
+    return specs
+
+
 def render_clip(path: str | os.PathLike, frames: int = 150, size=(640, 480), fps: float = 30.0,
                 specs: list[FigureSpec] | None = None, seed: int = 0, crf: int = 18) -> ClipTruth:
     """Write an H.264 clip to ``path`` and return its ground truth."""
