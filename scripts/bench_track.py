@@ -24,6 +24,7 @@ markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown 
    dancers) in a temporary folder, tracked from their ground-truth first boxes and scored against their MOT
    ground truth; per clip also the fraction of detector frames in which each dancer got a pose, at two detector
    confidence thresholds, and PCK@0.2 of each dancer's keypoints against its visible ground-truth keypoints.
+   ``crowd``: the same for groups of ``--synth-crowd`` dancers (default 6 and 8) in four group genres.
 
 Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--seeds 6] [--seed-start 0]
                                       [--synth-seeds 7,11,23] [--synth-thresholds 0.3,0.15]
@@ -92,12 +93,14 @@ def main() -> int:
     parser.add_argument("--settings", help="detector settings SIZExEVERY, comma-separated (default "
                         + ",".join(f"{a}x{b}" for a, b in SETTINGS) + "); the first is the reference")
     parser.add_argument("--sections", default="speed,real,memory,detector,identity,troupe,synth",
-                        help="comma-separated subset of speed, real, memory, detector, identity, troupe, synth")
+                        help="comma-separated subset of speed, real, memory, detector, identity, troupe, synth, crowd")
     parser.add_argument("--seeds", type=int, default=6, help="procedural clips per dancer count (identity)")
     parser.add_argument("--seed-start", type=int, default=0, help="first seed of the identity clips (seeds 0-5 "
                         "were used while tuning; 6 and up are held out)")
     parser.add_argument("--synth-seeds", default="7", help="comma-separated seeds of the synthetic clips (synth; "
                         "7 was used while tuning, 11 and 23 are held out)")
+    parser.add_argument("--synth-crowd", default="6,8", help="comma-separated dancer counts of the synthetic group "
+                        "clips (crowd: ballet, hip-hop, flamenco and tap groups, beyond hdvr synth's 1-4)")
     parser.add_argument("--synth-thresholds", default="0.3,0.15",
                         help="comma-separated detector confidence thresholds for the synthetic clips (synth)")
     args = parser.parse_args()
@@ -135,6 +138,11 @@ def main() -> int:
     if "synth" in sections:
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")])
+    if "crowd" in sections:
+        counts = [int(v) for v in args.synth_crowd.split(",")]
+        lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
+                               thresholds=[float(v) for v in args.synth_thresholds.split(",")],
+                               clips=[(genre, n) for n in counts for genre in CROWD_GENRES])
     load_after = os.getloadavg()
     lines.append(f"Load average at the end: {load_after[0]:.1f}.")
     text = "\n".join(lines) + "\n"
@@ -297,15 +305,20 @@ def identity_section(args, model, tmp, frames: int = 150, troupe: bool = False) 
 
 
 SYNTH_CLIPS = (("tango", 2), ("swing", 2), ("hip_hop", 3), ("flamenco", 3), ("hip_hop", 4), ("ballet", 4))
+CROWD_GENRES = ("ballet", "hip_hop", "flamenco", "tap")  # group genres rendered with --synth-crowd dancers
 
 
-def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3, 0.15)) -> list[str]:
+def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3, 0.15),
+                  clips=SYNTH_CLIPS) -> list[str]:
     """Tracking on rendered hdvr.synth clips against their MOT ground truth (boxes from gt.npz) and PCK@0.2 of the
-    per-dancer keypoints against their visible ground-truth keypoints."""
+    per-dancer keypoints against their visible ground-truth keypoints. ``clips``: (genre, dancers) per clip; a
+    dancer the camera never sees is left out of the scoring."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
     from hdvr.tracking.pipeline import DancerStart
 
-    lines = [f"### Synthetic dancers (hdvr.synth, 640x480, {seconds:g} s at 30 frames/s, seed "
+    crowd = clips is not SYNTH_CLIPS
+    lines = [f"### Synthetic {'groups' if crowd else 'dancers'} (hdvr.synth, 640x480, {seconds:g} s at 30 frames/s, "
+             f"seed "
              f"{', '.join(str(s) for s in seeds)})", "",
              "Tracked from the ground-truth box where each dancer first appears, detector YOLO11n-pose at 480 px on "
              "every 3rd frame; scored against the clip's amodal ground-truth boxes (trackeval). \"pose\": fraction "
@@ -321,14 +334,16 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
     joints = body25_joints_of(COCO17_NAMES)
     detectors = {thr: OnnxPoseDetector(model, input_size=480, threads=2, score_threshold=thr) for thr in thresholds}
     for seed in seeds:
-        root = tmp / f"synth-{seed}"
-        for index, (genre, n) in enumerate(SYNTH_CLIPS):
+        root = tmp / f"synth-{seed}{'-crowd' if crowd else ''}"  # clip folders are named by index
+        for index, (genre, n) in enumerate(clips):
             spec = ClipSpec(index, seed, genre, n, seconds)
             make_clip(root, spec, render=True)
             clip = root / spec.name
             with np.load(clip / "gt.npz") as gt_file:
                 gt = np.transpose(gt_file["boxes"], (1, 0, 2)).astype(float)  # (T, N, 4)
                 truth = visible_truth_keypoints(gt_file["keypoints2d"], gt_file["visibility"])
+            seen = np.isfinite(gt).all(axis=2).any(axis=0)  # a group may have dancers the camera never sees
+            gt, truth, n = gt[:, seen], truth[:, seen], int(seen.sum())
             first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(n)]
             order = sorted(range(n), key=lambda i: first[i])  # track_video numbers dancers by start
             starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
