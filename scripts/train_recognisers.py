@@ -102,7 +102,7 @@ def main(argv=None) -> int:
     from hdvr.synth.genres import GENRES
 
     clock = time.perf_counter()
-    command = "python3 scripts/train_recognisers.py " + " ".join(sys.argv[1:] if argv is None else argv)
+    command = ("python3 scripts/train_recognisers.py " + " ".join(sys.argv[1:] if argv is None else argv)).strip()
     print(f"1/4 training data: {args.train_clips} synthetic clips (seed {args.seed}), exact + {args.augment} "
           "disturbed labellings per dancer", flush=True)
     train = synthetic_sequences(args.seed, args.train_clips, args.seconds, levels=(0.0,),
