@@ -110,3 +110,26 @@ def test_absent_default_checkpoint_turns_genre_off_with_a_reason(monkeypatch, tm
     assert model is None and "not found" in reason
     assert video_genre([], model, reason) == {"available": False, "reason": reason}
     assert load_genre_recogniser(None) == (None, "genre recognition is off")
+
+
+@pytest.mark.slow
+def test_training_script_is_deterministic_and_writes_a_loadable_checkpoint(tmp_path):
+    import importlib.util
+    import json
+    from pathlib import Path
+
+    script = Path(__file__).resolve().parents[1] / "scripts" / "train_recognisers.py"
+    spec = importlib.util.spec_from_file_location("train_recognisers", script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    for run in ("a", "b"):
+        assert module.main(["--train-clips", "18", "--eval-clips", "9", "--fitted-clips", "1", "--epochs", "2",
+                            "--seconds", "5", "--out", str(tmp_path / f"{run}.pt"),
+                            "--report", str(tmp_path / f"{run}.json"), "--figure", str(tmp_path / f"{run}.png")]) == 0
+    a = torch.load(tmp_path / "a.pt", weights_only=True)
+    b = torch.load(tmp_path / "b.pt", weights_only=True)
+    assert all(torch.equal(a["genre"][k], b["genre"][k]) for k in a["genre"])
+    report = json.loads((tmp_path / "a.json").read_text())
+    assert set(report["results"]) == {"held_out_exact_3d", "held_out_disturbed_3d", "held_out_fitted_3d"}
+    assert np.array(report["results"]["held_out_exact_3d"]["confusion"]).shape == (9, 9)
+    assert GenreRecogniser.load(tmp_path / "a.pt").genres == list(GENRES)
