@@ -4,8 +4,9 @@ A sequence is one dancer of one synthetic clip (:func:`hdvr.synth.groundtruth.ge
 (seed, clip index)): the movement labels the pipeline's labeller gives its 3D motion, exact or disturbed like a 3D
 fit (:func:`hdvr.recognition.genre.perturb_motion`), resampled to :data:`GENRE_FPS`. :func:`fitted_sequences`
 goes through the real 3D fit instead: the clip's 2D keypoints (the 19 BODY_25 joints a COCO-17 detector such as
-YOLO11n-pose gives, its 17 plus neck and mid-hip, feet missing, with pixel noise) are fitted with :func:`hdvr.fitting.sequence.fit_keypoints` and the fitted dancer is
-labelled, as in ``hdvr run`` minus tracking and 2D detection.
+YOLO11n-pose gives, its 17 plus neck and mid-hip, feet missing, with pixel noise) are fitted with
+:func:`hdvr.fitting.sequence.fit_keypoints` and the fitted dancer is labelled, as in ``hdvr run`` minus tracking
+and 2D detection.
 """
 
 from __future__ import annotations
