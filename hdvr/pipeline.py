@@ -7,7 +7,16 @@ Outputs in ``out_dir`` (every file written atomically; a dancer whose stage fail
 - ``dancer_<i>.bvh``: the fitted motion for Blender (Y up, centimetres)
 - ``dancer_<i>.labels.json`` and ``dancer_<i>.score.png``: body-part movements and their score (:mod:`hdvr.movements`)
 - ``dancer_<i>.3d.mp4``: the fitted dancer rendered by MuJoCo (optional)
-- ``summary.json``: per dancer, coverage, fit figures and the most frequent movement per part
+- ``summary.json``: per dancer, coverage, fit figures, the most frequent movement per part and the genre; the
+  video's genre (keys below)
+
+Genre (the paper's step 5, :mod:`hdvr.recognition.genre`): the genre LSTM of a recogniser checkpoint (default: the
+one shipped in ``hdvr/data/recognisers.pt``) reads each fitted dancer's movement labels. ``summary.json`` keys:
+
+- per dancer ``genre``: ``{"top": name, "probabilities": {name: p}}`` over the nine genres (``{}`` when the dancer
+  was not fitted or genre recognition is off/unavailable);
+- top level ``genre``: ``{"available": true, "top": name, "probabilities": {name: p}, "dancers": n,
+  "recogniser": path}`` with the mean of the dancers' probabilities, or ``{"available": false, "reason": text}``.
 """
 
 from __future__ import annotations
@@ -38,6 +47,7 @@ class DancerOutputs:
     render: Path | None = None
     fit: dict = field(default_factory=dict)
     movements: dict = field(default_factory=dict)
+    genre: dict = field(default_factory=dict)
     skipped: str | None = None
 
 
@@ -48,11 +58,42 @@ class PipelineResult:
     frames: int
     dancers: list[DancerOutputs]
     track_seconds: float
+    genre: dict = field(default_factory=lambda: {"available": False, "reason": "genre recognition is off"})
 
     def summary(self) -> dict:
-        return {"frames": self.frames, "fps": self.fps, "track_seconds": self.track_seconds,
+        return {"frames": self.frames, "fps": self.fps, "track_seconds": self.track_seconds, "genre": self.genre,
                 "dancers": [{k: (str(v) if isinstance(v, Path) else v) for k, v in d.__dict__.items()}
                             for d in self.dancers]}
+
+
+def load_genre_recogniser(recogniser="default"):
+    """-> (GenreRecogniser or None, reason when None). ``"default"``: the shipped checkpoint, whose absence or
+    damage only turns genre off (with the reason); ``None``/``False``: off; a path: that checkpoint, and a
+    missing or unreadable one is an :class:`HDVRError`."""
+    from hdvr.recognition.genre import GenreRecogniser
+
+    if recogniser is None or recogniser is False:
+        return None, "genre recognition is off"
+    if isinstance(recogniser, GenreRecogniser):
+        return recogniser, None
+    if isinstance(recogniser, str) and recogniser == "default":
+        try:
+            return GenreRecogniser.load(), None
+        except HDVRError as exc:
+            return None, str(exc)
+    return GenreRecogniser.load(recogniser), None
+
+
+def video_genre(dancers: list[DancerOutputs], recogniser, reason: str | None) -> dict:
+    """The video's genre: the mean of the dancers' genre probabilities (see the module docstring for keys)."""
+    if recogniser is None:
+        return {"available": False, "reason": reason or "genre recognition is off"}
+    probs = [[d.genre["probabilities"][g] for g in recogniser.genres] for d in dancers if d.genre]
+    if not probs:
+        return {"available": False, "reason": "no dancer was fitted in 3D"}
+    mean = np.mean(probs, axis=0)
+    return {"available": True, **recogniser.as_dict(mean / mean.sum()), "dancers": len(probs),
+            "recogniser": recogniser.source}
 
 
 def make_detector(name: str = "yolo11n", size: int = 480, pose_model: str | None = None,
@@ -95,8 +136,9 @@ def dominant_movements(labels) -> dict[str, str]:
 
 
 def analyse_keypoints(kp_path: Path, out_dir: Path, index: int, fit_settings=None, render_size=None,
-                      smoothing_s: float = 0.2) -> DancerOutputs:
-    """3D fit, BVH, movement labels and score (and optionally a render) for one dancer's 2D keypoint file."""
+                      smoothing_s: float = 0.2, genre_recogniser=None) -> DancerOutputs:
+    """3D fit, BVH, movement labels and score (and optionally a render) for one dancer's 2D keypoint file; with a
+    :class:`~hdvr.recognition.genre.GenreRecogniser` also the dancer's genre probabilities."""
     from hdvr.fitting.sequence import fit_keypoints
     from hdvr.io.bvh import write_dancer_bvh
     from hdvr.io.keypoints2d import load_keypoints2d
@@ -132,6 +174,8 @@ def analyse_keypoints(kp_path: Path, out_dir: Path, index: int, fit_settings=Non
     dancer.score = stem.with_suffix(".score.png")
     draw_score(labels, dancer.score, title=f"dancer {index}: movements (fitted 3D)")
     dancer.movements = dominant_movements(labels)
+    if genre_recogniser is not None:
+        dancer.genre = genre_recogniser.as_dict(genre_recogniser.predict_labels(labels.multi_hot(), result.fps))
     if render_size:
         dancer.render = stem.with_suffix(".3d.mp4")
         render_motion(skeleton, result.qpos, dancer.render, result.fps, render_size)
@@ -158,11 +202,14 @@ def render_motion(skeleton, qpos: np.ndarray, path: Path, fps: float, size=(320,
 
 def analyse_video(video: str | os.PathLike, out_dir: str | os.PathLike, num_dancers: int | None = None,
                   boxes=None, detector=None, detect_every: int = 3, fit_settings=None,
-                  render_size: tuple[int, int] | None = None) -> PipelineResult:
-    """Run tracking, 2D pose, 3D fit and movement labelling on ``video``; see the module docstring."""
+                  render_size: tuple[int, int] | None = None, recogniser="default") -> PipelineResult:
+    """Run tracking, 2D pose, 3D fit, movement labelling and genre recognition on ``video``; see the module
+    docstring. ``recogniser``: "default" (the shipped checkpoint; genre is reported unavailable when it is
+    missing), None (no genre), a checkpoint path (an error when unreadable) or a loaded GenreRecogniser."""
     from hdvr.progress import progress
     from hdvr.tracking.pipeline import track_video
 
+    genre_model, genre_reason = load_genre_recogniser(recogniser)  # before the slow part: a bad path fails fast
     out = Path(out_dir)
     run = track_video(video, out, detector=detector, boxes=boxes, num_dancers=num_dancers,
                       detect_every=detect_every)
@@ -170,9 +217,11 @@ def analyse_video(video: str | os.PathLike, out_dir: str | os.PathLike, num_danc
     for i in progress(range(run.boxes.shape[1]), desc="3D fit and movements", unit="dancer"):
         kp_path = out / f"dancer_{i}.npz"
         try:
-            dancers.append(analyse_keypoints(kp_path, out, i, fit_settings, render_size))
+            dancers.append(analyse_keypoints(kp_path, out, i, fit_settings, render_size,
+                                             genre_recogniser=genre_model))
         except HDVRError as exc:  # keep the other dancers' results
             dancers.append(DancerOutputs(i, kp_path, 0.0, skipped=str(exc)))
-    result = PipelineResult(out, run.fps, int(run.boxes.shape[0]), dancers, run.seconds)
+    result = PipelineResult(out, run.fps, int(run.boxes.shape[0]), dancers, run.seconds,
+                            video_genre(dancers, genre_model, genre_reason))
     write_text_atomic(out / "summary.json", json.dumps(result.summary(), indent=1))
     return result

@@ -1,4 +1,5 @@
-"""The whole hierarchy wired together: synthetic clip -> hdvr run (OpenPose-JSON poses) -> 3D, BVH, movements."""
+"""The whole hierarchy wired together: synthetic clip -> hdvr run (OpenPose-JSON poses) -> 3D, BVH, movements,
+genre."""
 
 import json
 
@@ -42,7 +43,13 @@ def test_run_on_a_synthetic_clip_with_precomputed_poses(synthetic_clip, tmp_path
     labels = json.loads((out / "dancer_0.labels.json").read_text())
     assert {s["part"] for s in labels["segments"]} >= {"head", "torso", "left_foot"}
     assert (out / "dancer_0.score.png").stat().st_size > 10_000
-    assert "dancer 0: pose on" in capsys.readouterr().out
+    genres = set(summary["genre"]["probabilities"])  # the shipped genre recogniser ran (hdvr.recognition.genre)
+    assert summary["genre"]["available"] and summary["genre"]["dancers"] == 1 and len(genres) == 9
+    assert summary["genre"]["top"] in genres and sum(summary["genre"]["probabilities"].values()) == \
+        pytest.approx(1.0, abs=1e-3)
+    assert dancer["genre"]["probabilities"] == pytest.approx(summary["genre"]["probabilities"], abs=1e-3)
+    printed = capsys.readouterr().out
+    assert "dancer 0: pose on" in printed and "genre of the video: " in printed
 
 
 @pytest.mark.slow
@@ -50,3 +57,4 @@ def test_full_demo(tmp_path):
     assert main(["demo", "--out", str(tmp_path), "--size", "96x72", "--seconds-per-joint", "0.1"]) == 0
     scores = json.loads((tmp_path / "demo_scores.json").read_text())
     assert scores["tracking"]["IDSW"] == 0 and len(scores["dancers"]) == 2
+    assert scores["genre"]["available"] and scores["genre"]["truth"] == "hip_hop"

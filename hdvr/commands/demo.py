@@ -3,8 +3,8 @@
 1. The digital dancer sweeps every joint through its range (``dancer_joint_ranges.mp4``).
 2. A synthetic two-dancer hip-hop clip is generated and rendered (``synthetic/``, with full ground truth).
 3. The whole hierarchy runs on that video as on any other (``analysis/``): tracks, 2D poses, 3D fit of the
-   MuJoCo dancer, BVH, movement labels and scores, a render of each fitted dancer.
-4. The results are scored against the clip's ground truth (IDF1 of the tracks, P-MPJPE of the 3D fit).
+   MuJoCo dancer, BVH, movement labels and scores, a render of each fitted dancer, the genre.
+4. The results are scored against the clip's ground truth (IDF1 of the tracks, P-MPJPE of the 3D fit, the genre).
 """
 
 from __future__ import annotations
@@ -101,11 +101,13 @@ def run(args) -> int:
     clip_dir = out / "synthetic" / spec.name
     print(f"2. synthetic clip: {meta['genre']}, {meta['n_dancers']} dancers, {meta['frames']} frames "
           f"-> {clip_dir / 'video.mp4'} (+ ground truth)")
-    print("3. hdvr run on that video: tracking, 2D pose, 3D fit, BVH, movements ...")
+    print("3. hdvr run on that video: tracking, 2D pose, 3D fit, BVH, movements, genre ...")
     result = analyse_video(clip_dir / "video.mp4", out / "analysis", num_dancers=meta["n_dancers"],
                            detector=make_detector("yolo11n"), render_size=(320, 240))
     print_summary(result)
     scores = score_against_ground_truth(clip_dir, result)
+    scores["genre"] = {"truth": meta["genre"], "predicted": result.genre.get("top"),
+                       "available": bool(result.genre.get("available"))}
     write_text_atomic(out / "demo_scores.json", json.dumps(scores, indent=1))
     t = scores["tracking"]
     print(f"4. against the ground truth: tracks IDF1 {t['IDF1']:.2f}, MOTA {t['MOTA']:.2f}, "
@@ -113,5 +115,7 @@ def run(args) -> int:
     for d in scores["dancers"]:
         print(f"   dancer {d['dancer']} 3D fit: P-MPJPE {d['p_mpjpe_mm']:.0f} mm, MPJPE {d['mpjpe_mm']:.0f} mm "
               "(no 3D ground truth used)")
+    if scores["genre"]["available"]:
+        print(f"   genre: {scores['genre']['predicted']} recognised, the clip is {meta['genre']}")
     print(f"see {out / 'analysis'} (overlay.mp4, dancer_*.3d.mp4, *.bvh, *.score.png) and {out / 'demo_scores.json'}")
     return 0

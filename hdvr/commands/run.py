@@ -1,13 +1,16 @@
-"""``hdvr run VIDEO --out DIR``: the whole hierarchy on one video (tracks, 2D poses, 3D fit, BVH, movements)."""
+"""``hdvr run VIDEO --out DIR``: the whole hierarchy on one video (tracks, 2D poses, 3D fit, BVH, movements,
+genre)."""
 
 from __future__ import annotations
 
 
 def register(subparsers) -> None:
     p = subparsers.add_parser(
-        "run", help="video -> tracks -> 2D poses -> 3D fit -> movements, for every dancer",
-        description="Track every dancer, estimate 2D poses, fit the MuJoCo digital dancer in 3D, export BVH, and "
-                    "label the movements of 16 body parts. See hdvr/pipeline.py for the files written.")
+        "run", help="video -> tracks -> 2D poses -> 3D fit -> movements -> genre, for every dancer",
+        description="Track every dancer, estimate 2D poses, fit the MuJoCo digital dancer in 3D, export BVH, "
+                    "label the movements of 16 body parts and recognise the dance genre (nine genres; the shipped "
+                    "model is trained on synthetic choreographies only, see docs/recognition.md). See "
+                    "hdvr/pipeline.py for the files written.")
     p.add_argument("video")
     p.add_argument("--out", required=True, help="output folder")
     init = p.add_mutually_exclusive_group(required=True)
@@ -20,6 +23,10 @@ def register(subparsers) -> None:
     p.add_argument("--detect-every", type=int, default=3)
     p.add_argument("--focal", type=float, default=None, help="focal length in pixels if known (else estimated)")
     p.add_argument("--render", action="store_true", help="also render each fitted dancer to dancer_<i>.3d.mp4")
+    genre = p.add_mutually_exclusive_group()
+    genre.add_argument("--recogniser", metavar="PATH", help="genre recogniser checkpoint (default: the one shipped "
+                                                            "in hdvr/data/recognisers.pt)")
+    genre.add_argument("--no-genre", action="store_true", help="skip genre recognition")
     p.set_defaults(func=run)
 
 
@@ -33,7 +40,8 @@ def run(args) -> int:
     result = analyse_video(args.video, args.out, num_dancers=args.dancers,
                            boxes=parse_boxes(args.boxes) if args.boxes else None, detector=detector,
                            detect_every=args.detect_every, fit_settings=settings,
-                           render_size=(320, 240) if args.render else None)
+                           render_size=(320, 240) if args.render else None,
+                           recogniser=None if args.no_genre else (args.recogniser or "default"))
     print_summary(result)
     return 0
 
@@ -50,3 +58,18 @@ def print_summary(result) -> None:
               f"{moves} ...")
         print(f"    {d.result3d.name}, {d.bvh.name}, {d.labels.name}, {d.score.name}"
               + (f", {d.render.name}" if d.render else ""))
+        if d.genre:
+            print(f"    genre {format_genre(d.genre)}")
+    g = result.genre
+    if g.get("available"):
+        print(f"genre of the video: {format_genre(g)} (mean of {g['dancers']} dancers; model trained on synthetic "
+              "choreographies only)")
+    else:
+        print(f"genre: unavailable ({g.get('reason', 'unknown reason')})")
+
+
+def format_genre(genre: dict, top: int = 3) -> str:
+    """``hip_hop 62% (tap 15%, swing 9%)`` from a ``{"top", "probabilities"}`` dict."""
+    ranked = sorted(genre["probabilities"].items(), key=lambda kv: -kv[1])
+    rest = ", ".join(f"{g} {100 * p:.0f}%" for g, p in ranked[1:top])
+    return f"{ranked[0][0]} {100 * ranked[0][1]:.0f}%" + (f" ({rest})" if rest else "")

@@ -170,6 +170,8 @@ def load_recognisers(path: str | os.PathLike):
         raise HDVRError(f"recogniser checkpoint not found: {path}")
     try:
         payload = torch.load(path, map_location="cpu", weights_only=True)
+        if not isinstance(payload, dict):
+            raise TypeError(f"a {type(payload).__name__}, not a dict")
         movement = {}
         for part, (fin, nl, hid, layers) in payload["movement_shapes"].items():
             m = MovementLSTM(fin, nl, hid, layers)
@@ -181,6 +183,8 @@ def load_recognisers(path: str | os.PathLike):
             genre = GenreLSTM(nin, ng, hid, layers)
             genre.load_state_dict(payload["genre"])
             genre.eval()
-    except (RuntimeError, KeyError, ValueError, EOFError) as exc:
-        raise HDVRError(f"cannot read recogniser checkpoint {path}: {type(exc).__name__}") from None
-    return movement, genre, payload["part_label_ids"], payload["meta"]
+        part_label_ids, meta = dict(payload["part_label_ids"]), dict(payload["meta"])
+    except Exception as exc:  # torch raises many kinds (UnpicklingError, zip errors, shape mismatches)
+        raise HDVRError(f"cannot read recogniser checkpoint {path}: not a valid HDVR checkpoint "
+                        f"({type(exc).__name__})") from None
+    return movement, genre, part_label_ids, meta
