@@ -142,7 +142,7 @@ def main() -> int:
         counts = [int(v) for v in args.synth_crowd.split(",")]
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")],
-                               clips=[(genre, n) for n in counts for genre in CROWD_GENRES])
+                               clips=[(genre, n) for n in counts for genre in CROWD_GENRES], groups=True)
     load_after = os.getloadavg()
     lines.append(f"Load average at the end: {load_after[0]:.1f}.")
     text = "\n".join(lines) + "\n"
@@ -309,17 +309,16 @@ CROWD_GENRES = ("ballet", "hip_hop", "flamenco", "tap")  # group genres rendered
 
 
 def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3, 0.15),
-                  clips=SYNTH_CLIPS) -> list[str]:
+                  clips=SYNTH_CLIPS, groups: bool = False) -> list[str]:
     """Tracking on rendered hdvr.synth clips against their MOT ground truth (boxes from gt.npz) and PCK@0.2 of the
-    per-dancer keypoints against their visible ground-truth keypoints. ``clips``: (genre, dancers) per clip; a
-    dancer the camera never sees is left out of the scoring."""
+    per-dancer keypoints against their visible ground-truth keypoints. ``clips``: (genre, dancers) per clip
+    (``groups``: the crowd section's, rendered in folders of their own); a dancer the camera never sees is left out
+    of the scoring."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
     from hdvr.tracking.pipeline import DancerStart
 
-    crowd = clips is not SYNTH_CLIPS
-    lines = [f"### Synthetic {'groups' if crowd else 'dancers'} (hdvr.synth, 640x480, {seconds:g} s at 30 frames/s, "
-             f"seed "
-             f"{', '.join(str(s) for s in seeds)})", "",
+    lines = [f"### Synthetic {'groups' if groups else 'dancers'} (hdvr.synth, 640x480, {seconds:g} s at 30 "
+             f"frames/s, seed {', '.join(str(s) for s in seeds)})", "",
              "Tracked from the ground-truth box where each dancer first appears, detector YOLO11n-pose at 480 px on "
              "every 3rd frame; scored against the clip's amodal ground-truth boxes (trackeval). \"pose\": fraction "
              "of detector frames in which each dancer got a pose. \"PCK@0.2\": per dancer, the fraction of its "
@@ -334,7 +333,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
     joints = body25_joints_of(COCO17_NAMES)
     detectors = {thr: OnnxPoseDetector(model, input_size=480, threads=2, score_threshold=thr) for thr in thresholds}
     for seed in seeds:
-        root = tmp / f"synth-{seed}{'-crowd' if crowd else ''}"  # clip folders are named by index
+        root = tmp / f"synth-{seed}{'-groups' if groups else ''}"  # clip folders are named by index
         for index, (genre, n) in enumerate(clips):
             spec = ClipSpec(index, seed, genre, n, seconds)
             make_clip(root, spec, render=True)

@@ -102,6 +102,8 @@ def main(argv=None) -> int:
             path = args.out / f"tracking_limit_s{seed}_{genre}_{frame_index:03d}.jpg"
             path.parent.mkdir(parents=True, exist_ok=True)
             ok, data = cv2.imencode(".jpg", picture, [cv2.IMWRITE_JPEG_QUALITY, 88])
+            if not ok:
+                raise SystemExit(f"make_tracking_docs: error: cannot encode {path.name} as JPEG")
             with atomic_path(path) as tmp_path:
                 tmp_path.write_bytes(data.tobytes())
             print(f"wrote {path}: {what}", file=sys.stderr)

@@ -112,6 +112,13 @@ def _background(size, seed) -> np.ndarray:
     return cv2.normalize(bg, None, 70, 190, cv2.NORM_MINMAX)
 
 
+#: clothes of clearly different colours (BGR stripe pairs), one per figure: the crossing clips use the first 4, the
+#: groups up to all 8 (a dancer dressed like the background is not a re-identification test)
+FIGURE_PALETTE = (((30, 30, 200), (40, 200, 230)), ((200, 60, 30), (230, 220, 90)), ((30, 170, 30), (20, 20, 20)),
+                  ((240, 240, 240), (150, 30, 150)), ((0, 120, 255), (90, 0, 60)), ((200, 200, 0), (60, 60, 140)),
+                  ((120, 0, 160), (0, 230, 140)), ((20, 80, 20), (220, 160, 255)))
+
+
 def default_crossing_specs(size=(640, 480), num_figures: int = 2, seed: int = 0) -> list[FigureSpec]:
     """Up to 4 figures, clear of each other in the first frame, that then cross: figure 0 walks right from the
     left edge, 1 walks left from the right edge (they cross head-on), 2 and 3 walk slowly between them (they are
@@ -120,9 +127,6 @@ def default_crossing_specs(size=(640, 480), num_figures: int = 2, seed: int = 0)
         raise ValueError("1 to 4 figures")
     rng = np.random.default_rng(seed)
     w, h = size
-    # clothes of clearly different colours (a dancer dressed like the background is not a re-identification test)
-    palette = [((30, 30, 200), (40, 200, 230)), ((200, 60, 30), (230, 220, 90)), ((30, 170, 30), (20, 20, 20)),
-               ((240, 240, 240), (150, 30, 150))]
     layout = [(0.1, 1.0), (0.9, -1.0), (0.42, 0.35), (0.66, -0.35)]  # start x / width, speed factor
     specs = []
     for i in range(num_figures):
@@ -130,14 +134,10 @@ def default_crossing_specs(size=(640, 480), num_figures: int = 2, seed: int = 0)
         speed = rng.uniform(2.8, 3.6) * speed_factor
         y0 = h * 0.55 + rng.uniform(-0.04, 0.04) * h
         specs.append(FigureSpec((w * x_frac, y0), (speed, rng.uniform(-0.1, 0.1)), h * rng.uniform(0.55, 0.65),
-                                palette[i], depth=float((i * 7 + seed) % num_figures), phase=rng.uniform(0, 6.3)))
+                                FIGURE_PALETTE[i], depth=float((i * 7 + seed) % num_figures),
+                                phase=rng.uniform(0, 6.3)))
     return specs
 
-
-#: clothes of clearly different colours for up to 8 figures (BGR stripe pairs)
-TROUPE_PALETTE = (((30, 30, 200), (40, 200, 230)), ((200, 60, 30), (230, 220, 90)), ((30, 170, 30), (20, 20, 20)),
-                  ((240, 240, 240), (150, 30, 150)), ((0, 120, 255), (90, 0, 60)), ((200, 200, 0), (60, 60, 140)),
-                  ((120, 0, 160), (0, 230, 140)), ((20, 80, 20), (220, 160, 255)))
 
 
 def troupe_specs(size=(640, 480), num_figures: int = 6, seed: int = 0) -> list[FigureSpec]:
@@ -146,8 +146,8 @@ def troupe_specs(size=(640, 480), num_figures: int = 6, seed: int = 0) -> list[F
     in the front row), every figure walking left or right at its own speed (1.2-3.2 px/frame) and turning back at
     the edges: figures of one row cross head-on and overtake each other, and the front row hides the legs and
     bodies of the back row as they pass."""
-    if not 5 <= num_figures <= len(TROUPE_PALETTE):
-        raise ValueError(f"5 to {len(TROUPE_PALETTE)} figures")
+    if not 5 <= num_figures <= len(FIGURE_PALETTE):
+        raise ValueError(f"5 to {len(FIGURE_PALETTE)} figures")
     rng = np.random.default_rng(seed)
     w, h = size
     specs = []
@@ -158,7 +158,7 @@ def troupe_specs(size=(640, 480), num_figures: int = 6, seed: int = 0) -> list[F
         speed = rng.uniform(1.2, 3.2) * rng.choice([-1.0, 1.0])
         height = h * height_frac * rng.uniform(0.95, 1.05)
         specs.append(FigureSpec((x0, h * y_frac + rng.uniform(-0.02, 0.02) * h), (speed, 0.0), height,
-                                TROUPE_PALETTE[i], depth=depth + 0.01 * i, phase=rng.uniform(0, 6.3)))
+                                FIGURE_PALETTE[i], depth=depth + 0.01 * i, phase=rng.uniform(0, 6.3)))
     return specs
 
 
