@@ -30,6 +30,7 @@ import numpy as np
 
 from hdvr.errors import HDVRError
 from hdvr.io.atomic import write_text_atomic
+from hdvr.recognition.genre import PIPELINE_SMOOTHING_S
 
 #: A dancer needs 2D keypoints on at least this fraction of frames to be fitted in 3D.
 MIN_POSE_COVERAGE = 0.2
@@ -136,7 +137,7 @@ def dominant_movements(labels) -> dict[str, str]:
 
 
 def analyse_keypoints(kp_path: Path, out_dir: Path, index: int, fit_settings=None, render_size=None,
-                      smoothing_s: float = 0.2, genre_recogniser=None) -> DancerOutputs:
+                      smoothing_s: float = PIPELINE_SMOOTHING_S, genre_recogniser=None) -> DancerOutputs:
     """3D fit, BVH, movement labels and score (and optionally a render) for one dancer's 2D keypoint file; with a
     :class:`~hdvr.recognition.genre.GenreRecogniser` also the dancer's genre probabilities."""
     from hdvr.fitting.sequence import fit_keypoints

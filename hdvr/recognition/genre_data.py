@@ -18,8 +18,8 @@ import numpy as np
 
 from hdvr.errors import HDVRError
 from hdvr.progress import progress
-from hdvr.recognition.genre import (GENRE_FPS, GENRE_WINDOW, PIPELINE_SMOOTHING_S, perturb_motion,
-                                    resample_labels)
+from hdvr.recognition.genre import (GENRE_FPS, GENRE_WINDOW, PIPELINE_SMOOTHING_S, movement_multi_hot,
+                                    perturb_motion, resample_labels)
 
 
 @dataclass
@@ -64,7 +64,7 @@ def synthetic_sequences(seed: int, clips: int, seconds: float = 8.0, dancers: tu
             todo = list(levels) + [float(rng.uniform(*level_range)) for _ in range(random_levels)]
             for level in todo:
                 kp = dancer.keypoints if level == 0 else perturb_motion(dancer.qpos, scratch, rng, fps, level)
-                hot = labeller.label(kp, fps, (0.0, 0.0, 1.0)).multi_hot()
+                hot = movement_multi_hot(kp, fps, labeller)
                 out.append(GenreSequence(resample_labels(hot, fps), GENRES.index(spec.genre), i, k, float(level)))
     return out
 
@@ -105,7 +105,7 @@ def fitted_sequences(seed: int, clips: int, seconds: float = 6.0, dancers: tuple
                 sk = Skeleton()
                 sk.set_bone_lengths(result.bone_lengths)
                 world = sk.keypoints(result.qpos)
-                hot = labeller.label(world, result.fps, (0.0, 0.0, 1.0)).multi_hot()
+                hot = movement_multi_hot(world, result.fps, labeller)
                 out.append(GenreSequence(resample_labels(hot, result.fps), GENRES.index(spec.genre), i, k, -1.0))
     return out
 
