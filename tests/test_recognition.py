@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 from hdvr.recognition.features import PART_JOINTS, body_frame, part_features
+from hdvr.recognition.genre_data import GenreSequence, train_genre
 from hdvr.recognition.train import (LabelledClip, RecognitionTrainConfig, load_recognisers, predict_genre,
-                                    predict_movements, save_recognisers, train_genre_model,
-                                    train_movement_models)
+                                    predict_movements, save_recognisers, train_movement_models)
 from hdvr.skeleton import Skeleton
 
 
@@ -49,22 +49,25 @@ def test_movement_and_genre_lstms_learn_and_round_trip(tmp_path):
     f1 = 2 * (pred & truth).sum() / (pred.sum() + truth.sum())
     assert f1 > 0.85, f1
 
+    # the genre LSTM (the shipped model's training loop): 3 toy genres, each a rhythm on its own label
     rng = np.random.default_rng(0)
-    seqs, genres = [], []
-    for g in range(3):
-        for _ in range(6):
-            seq = rng.uniform(0, 0.3, (96, 5)).astype(np.float32)
-            seq[:, g] += 0.6 * (np.sin(np.arange(96) * (0.2 + 0.3 * g)) > 0)  # genre-specific rhythm
-            seqs.append(seq)
-            genres.append(g)
-    genre = train_genre_model(seqs, genres, 3, RecognitionTrainConfig(epochs=80, window=48, hidden=32, layers=1,
-                                                                        batch_size=8))
-    for g in range(3):
+
+    def toy_labels(g):
         seq = rng.uniform(0, 0.3, (96, 5)).astype(np.float32)
-        seq[:, g] += 0.6 * (np.sin(np.arange(96) * (0.2 + 0.3 * g)) > 0)
+        seq[:, g] += 0.6 * (np.sin(np.arange(96) * (0.2 + 0.3 * g)) > 0)  # genre-specific rhythm
+        return seq
+
+    seqs = [GenreSequence(toy_labels(g), g, clip=6 * g + i, dancer=0, level=0.0) for g in range(3) for i in range(6)]
+    genre, history = train_genre(seqs, 3, epochs=80, hidden=32, layers=1, window=48, batch_size=8,
+                                 crops_per_sequence=3, seed=0, log=None)
+    assert len(history) == 80 and history[-1]["loss"] < 0.5 * history[0]["loss"], history[::20]
+    held_out = [toy_labels(g) for g in range(3)]
+    for g, seq in enumerate(held_out):
         assert predict_genre(genre, seq, 48).argmax() == g
 
     save_recognisers(tmp_path / "rec.pt", models, genre, ids, {"taxonomy": "toy"})
     m2, g2, ids2, meta = load_recognisers(tmp_path / "rec.pt")
     assert ids2 == ids and meta == {"taxonomy": "toy"}
     np.testing.assert_allclose(predict_movements(m2, ids2, test.keypoints3d, test.fps, 2), probs, atol=1e-6)
+    for seq in held_out:
+        np.testing.assert_allclose(predict_genre(g2, seq, 48), predict_genre(genre, seq, 48), atol=1e-6)

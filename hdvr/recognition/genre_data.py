@@ -24,7 +24,8 @@ from hdvr.recognition.genre import (GENRE_FPS, GENRE_WINDOW, PIPELINE_SMOOTHING_
 
 @dataclass
 class GenreSequence:
-    """One dancer's labels (T, 154) float32 at :data:`GENRE_FPS`; genre index; where it came from."""
+    """One dancer's labels (T, 154) float32 at :data:`GENRE_FPS` (any (T, N) for :func:`train_genre`); genre index;
+    where it came from."""
 
     labels: np.ndarray
     genre: int
@@ -114,9 +115,20 @@ def train_genre(sequences: list[GenreSequence], num_genres: int, epochs: int = 4
                 layers: int = 1, window: int = GENRE_WINDOW, batch_size: int = 64, learning_rate: float = 3e-3,
                 crops_per_sequence: int = 1, seed: int = 0, validation: list[GenreSequence] | None = None,
                 input_dropout: float = 0.0, weight_decay: float = 0.0, log=print):
-    """Train :class:`~hdvr.recognition.models.GenreLSTM` on random ``window``-frame crops (new crops every epoch),
-    cross-entropy, Adam with a one-cycle schedule; ``input_dropout`` drops label entries of the crops (so the
-    model cannot lean on any single label). Returns (model in eval mode, history list of per-epoch dicts)."""
+    """Train :class:`~hdvr.recognition.models.GenreLSTM` (the one genre training loop; it trains the shipped model).
+
+    ``sequences``: per-frame labels ``labels`` (T, N) float32 (N = 154 for HDVR's labeller; the same N for all;
+    at :data:`GENRE_FPS` for the shipped model) with T >= ``window``, and a genre index in ``0..num_genres-1``.
+    Each epoch draws ``crops_per_sequence`` random ``window``-frame crops per sequence (new crops every epoch),
+    in shuffled batches of ``batch_size`` crops; cross-entropy of the last step's logits, AdamW (``weight_decay``)
+    with a one-cycle schedule peaking at ``learning_rate``, gradient norm clipped at 5. ``input_dropout`` zeroes
+    that fraction of the crops' label entries (so the model cannot lean on any single label). ``hidden`` and
+    ``layers`` size the LSTM. ``validation`` sequences, if given, are scored each epoch with :func:`evaluate`
+    (whole sequences, ``window``-frame windows). ``log`` gets one line per epoch (None: silent). Deterministic for
+    a ``seed`` (torch and NumPy generators seeded here; one torch thread).
+
+    Returns (model in eval mode, history: per-epoch dicts ``epoch``, ``loss`` (mean cross-entropy over the
+    epoch's crops), ``train_window_accuracy`` and, with ``validation``, ``validation_accuracy``)."""
     import torch
     from torch import nn
 

@@ -1,8 +1,9 @@
-"""Training and prediction for the movement and genre LSTMs, with one checkpoint file for all models.
+"""Training of the movement LSTMs, prediction with the movement and genre LSTMs, one checkpoint file for all models.
 
 Movement labels are a per-frame multi-hot matrix (T, N_labels) over the global label ids of the taxonomy
 (154 for HDVR's vocabulary); ``part_label_ids`` says which ids belong to each body part. Checkpoints are
-``torch.save`` dicts of tensors and primitives, loaded with ``weights_only=True``.
+``torch.save`` dicts of tensors and primitives, loaded with ``weights_only=True``. The genre LSTM is trained by
+:func:`hdvr.recognition.genre_data.train_genre` (the one genre training loop, which trains the shipped checkpoint).
 """
 
 from __future__ import annotations
@@ -23,6 +24,9 @@ from hdvr.recognition.models import GenreLSTM, MovementLSTM
 
 @dataclass
 class RecognitionTrainConfig:
+    """Settings of :func:`train_movement_models` (the genre LSTM has its own, the arguments of
+    :func:`hdvr.recognition.genre_data.train_genre`)."""
+
     epochs: int = 30
     window: int = 64  # frames per training sequence
     batch_size: int = 32
@@ -108,40 +112,10 @@ def predict_movements(models: dict[str, MovementLSTM], part_label_ids: dict[str,
     return out
 
 
-def train_genre_model(sequences: list[np.ndarray], genres: list[int], num_genres: int,
-                      cfg: RecognitionTrainConfig | None = None) -> GenreLSTM:
-    """Train :class:`GenreLSTM` on per-frame label probabilities (T, N) with one genre per sequence."""
-    cfg = cfg or RecognitionTrainConfig()
-    if not sequences or len(sequences) != len(genres):
-        raise HDVRError("genre training needs one genre per label sequence")
-    torch.manual_seed(cfg.seed)
-    rng = np.random.default_rng(cfg.seed)
-    xs, ys = [], []
-    for seq, g in zip(sequences, genres):
-        for s, e in _windows(seq.shape[0], cfg.window):
-            if e - s == cfg.window:
-                xs.append(seq[s:e].astype(np.float32))
-                ys.append(g)
-    if not xs:
-        raise HDVRError(f"genre training needs sequences of at least {cfg.window} frames")
-    x, y = torch.from_numpy(np.stack(xs)), torch.tensor(ys)
-    model = GenreLSTM(x.shape[-1], num_genres, cfg.hidden, cfg.layers)
-    opt = torch.optim.Adam(model.parameters(), lr=cfg.learning_rate)
-    ce = nn.CrossEntropyLoss()
-    for _ in progress(range(cfg.epochs), desc="training genre LSTM", unit="epoch"):
-        order = rng.permutation(len(x))
-        for b in range(0, len(order), cfg.batch_size):
-            sel = torch.from_numpy(order[b:b + cfg.batch_size])
-            loss = ce(model(x[sel]), y[sel])
-            opt.zero_grad(set_to_none=True)
-            loss.backward()
-            opt.step()
-    return model.eval()
-
-
 @torch.no_grad()
 def predict_genre(model: GenreLSTM, label_probs: np.ndarray, window: int = 64) -> np.ndarray:
-    """Genre probabilities (G,) for a clip: the mean of the softmax over its windows."""
+    """Genre probabilities (G,) for a clip's per-frame labels ``label_probs`` (T, N): the mean of the softmax over
+    its ``window``-frame windows (half overlapping; a clip shorter than ``window`` is one window)."""
     wins = [label_probs[s:e] for s, e in _windows(label_probs.shape[0], window)]
     x = torch.from_numpy(_stack(wins, min(window, label_probs.shape[0])))
     return torch.softmax(model(x), dim=-1).mean(0).numpy()
