@@ -7,8 +7,10 @@ cores too, so spread arms do not count. Per frame:
 1. every dancer that is being tracked is moved by its tracker; while it overlaps no other dancer its colour
    histogram and velocity are stored (the appearance and motion memory), and its tracker learns;
 2. while it overlaps another dancer the tracker does not learn; a *tracking failure* shows as a sudden change of
-   motion (direction turned by more than ``failure_angle_deg``, a stall or a jump) or as a histogram that no
-   longer matches the stored one;
+   motion (direction turned by more than ``failure_angle_deg``, a stall or a jump; a dancer with no stored
+   velocity, e.g. one that has overlapped others since it started, fails by moving off only when it moves like a
+   dancer it overlaps: its tracker is being dragged along) or as a histogram that no longer matches the stored
+   one;
 3. on a failure the dancer is *occluded*: its box moves on with the stored velocity, and the frame where the
    overlap will end is predicted from the stored velocities of the dancers involved;
 4. occluded dancers that show clearly again (own tracker or a detection clear of every tracked dancer, matching
@@ -76,6 +78,12 @@ class MultiTrackerConfig:
     failure_psr: float = 2.5  # correlation-filter peak-to-sidelobe ratio below this = failure while overlapped
     motion_window: int = 4  # frames over which the current motion is measured
     min_motion_px: float = 4.0  # displacement over the motion window below which its direction is not trusted
+    still_needs_follower: bool = True  # a dancer without a stored velocity that moves off fails only when it moves
+    # like a dancer it overlaps (its tracker dragged along: :meth:`_moves_with`)
+    follower_angle_deg: float = 45.0  # ... within this angle of that dancer's motion
+    follower_speed_ratio: float = 2.0  # ... and within this factor of its speed
+    same_person_iou: float = 0.5  # two tracked boxes overlapping more than this (IoU) may be on the same person:
+    # the one matching its own memory worse has failed
     cone_half_angle_deg: float = 25.0
     cone_radii: tuple[float, ...] = (0.7, 0.85, 1.0, 1.15, 1.3)  # x the predicted travel distance
     cone_angles: int = 5  # directions sampled across the cone
@@ -100,6 +108,9 @@ class MultiTrackerConfig:
     max_box_offset: float = 0.25  # box centre at most this x its size from the tracker's centre
     max_person_width: float = 2.0  # a detection wider than this x a dancer's box height is not that dancer alone
     max_size_ratio: float = 1.4  # the initial box is at most this much larger or smaller than the detector's
+    start_ratio_alone: bool = True  # the initial box's ratio to the detector's is learned at the start only for a
+    # dancer whose body core overlaps no other dancer's then (in a stack the detection on it may be the other's);
+    # otherwise from its first detection while clear
     retrack_scale: float = 1.25  # box height this factor off the tracker's template: the tracker restarts
     max_missed_detections: int = 3  # detector frames in a row without a person on a clear dancer's box = lost
     long_lost_detections: int = 8  # detector frames in a row without a person on a clear dancer's box = long lost
@@ -186,12 +197,22 @@ class MultiDancerTracker(ReportedExtent):
     def add_dancer(self, frame: np.ndarray, box, detections=None) -> int:
         """Start tracking a dancer at ``box`` = (x, y, w, h) px in ``frame`` (the current frame); returns its id.
         ``detections``: person boxes in this frame; the one on ``box`` (IoU > 0.5) gives the ratio of the
-        dancer's box to the detector's, kept when the box size adapts to later detections."""
+        dancer's box to the detector's, kept when the box size adapts to later detections. With
+        ``start_ratio_alone``, not for a box whose body core overlaps another dancer's (nor for that dancer, if it
+        started in this frame too): the ratio is then learned from the first detection while clear."""
         b = tuple(float(v) for v in box)
         tracker = LDESTracker(frame, self._core(b), self.config.ldes)
-        d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index)
+        d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index,
+                        start_frame=self.frame_index)
         d.stored_histogram = colour_histogram(frame, b)
         ious = [box_iou(b, det) for det in detections or []]
+        stacked = [o for o in self.dancers if o.status != OUT
+                   and self._bodies_overlap(b, o.box) > self.config.overlap_threshold]
+        if self.config.start_ratio_alone and stacked:
+            ious = []  # learned later, from a detection while clear (:meth:`_adapt_box`)
+            for o in stacked:  # started in this frame beside this one: neither's start detection is certain
+                if o.start_frame == self.frame_index:
+                    o.size_ratio = None
         if ious and max(ious) > 0.5:
             detected = np.array(detections[int(np.argmax(ious))][2:], float)
             d.size_ratio = np.clip(np.array(b[2:]) / detected, 1 / self.config.max_size_ratio,
@@ -732,7 +753,8 @@ class MultiDancerTracker(ReportedExtent):
                 expected = stored_speed * steps
                 if expected >= c.min_motion_px and (moved < 0.3 * expected or moved > 2.5 * expected + 2 * steps):
                     return True
-            elif moved > c.min_motion_px + 0.05 * d.box[3]:
+            elif moved > c.min_motion_px + 0.05 * d.box[3] and (not c.still_needs_follower
+                                                                 or self._moves_with(motion, overlapping)):
                 return True  # a still dancer that suddenly moves off with an overlapping one
         if d.tracker.confidence < c.failure_psr:
             return True
@@ -742,10 +764,30 @@ class MultiDancerTracker(ReportedExtent):
         # two trackers on the same person: the one that matches its memory worse has failed
         for j in overlapping:
             o = self.dancers[j]
-            if o.status == TRACKED and box_iou(d.box, o.box) > 0.5:
+            if o.status == TRACKED and box_iou(d.box, o.box) > c.same_person_iou:
                 other_similarity = histogram_similarity(colour_histogram(frame, o.box), o.stored_histogram)
                 if similarity < other_similarity:
                     return True
+        return False
+
+    def _moves_with(self, motion: np.ndarray, overlapping: list[int]) -> bool:
+        """Whether ``motion`` (px/frame) is that of one of the dancers ``overlapping`` (indices): within
+        ``follower_angle_deg`` of its direction and ``follower_speed_ratio`` of its speed. A tracked dancer's motion
+        is measured over its recent centres, an occluded one's is its stored velocity."""
+        c = self.config
+        speed = float(np.linalg.norm(motion))
+        for j in overlapping:
+            o = self.dancers[j]
+            if o.status == TRACKED and len(o.centers) > 1:
+                theirs = (o.centers[-1] - o.centers[0]) / (len(o.centers) - 1)
+            else:
+                theirs = o.stored_velocity
+            their_speed = float(np.linalg.norm(theirs))
+            if their_speed < 1e-6 or speed < 1e-6:
+                continue
+            if _angle_between(motion, theirs) <= c.follower_angle_deg and \
+                    1 / c.follower_speed_ratio <= speed / their_speed <= c.follower_speed_ratio:
+                return True
         return False
 
     def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:

@@ -35,6 +35,7 @@ class DancerTrack:
     offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
     recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
     size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
+    start_frame: int = 0  # frame in which tracking of this dancer began
     exit_side: str | None = None  # "left" or "right": the frame edge the dancer left by (None: another or none)
     growth: np.ndarray = field(default_factory=lambda: np.zeros(4))  # px the reported box extends beyond ``box``
     # on the left, top, right and bottom (:meth:`hdvr.tracking.extent.ReportedExtent.extend_to_poses`)
