@@ -47,7 +47,8 @@ def test_plot_is_written(tmp_path):
     markdown = tmp_path / "bench.md"
     markdown.write_text(MARKDOWN)
     out = tmp_path / "img" / "idf1.png"
-    assert module.main(["--markdown", str(markdown), "--out", str(out)]) == 0
+    sections = ["### Synthetic dancers with keypoints, seeds 7", "### Synthetic dancers, held-out seeds"]
+    assert module.main(["--markdown", str(markdown), "--out", str(out), "--sections", *sections]) == 0
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert not [p for p in out.parent.iterdir() if p.name.startswith(".")]  # no temporary file left
 
