@@ -20,3 +20,10 @@ def test_dancer_centre_is_the_box_centre_and_starts_tracked_without_growth():
     np.testing.assert_allclose(d.center, [25.0, 50.0])
     np.testing.assert_allclose(d.body_center, [12.0, 34.0])
     assert not d.growth.any() and d.growth.shape == (4,)
+
+
+def test_recent_motion_is_the_mean_step_of_the_recent_centres():
+    d = DancerTrack(0, None, (0.0, 0.0, 10.0, 20.0))
+    assert np.allclose(d.recent_motion, 0.0)  # fewer than 2 centres: no motion
+    d.centers = [np.array([10.0, 5.0]), np.array([12.0, 5.0]), np.array([16.0, 8.0])]
+    assert np.allclose(d.recent_motion, [3.0, 1.5])

@@ -205,14 +205,14 @@ class MultiDancerTracker(ReportedExtent):
         d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index,
                         start_frame=self.frame_index)
         d.stored_histogram = colour_histogram(frame, b)
-        ious = [box_iou(b, det) for det in detections or []]
         stacked = [o for o in self.dancers if o.status != OUT
-                   and self._bodies_overlap(b, o.box) > self.config.overlap_threshold]
-        if self.config.start_ratio_alone and stacked:
-            ious = []  # learned later, from a detection while clear (:meth:`_adapt_box`)
-            for o in stacked:  # started in this frame beside this one: neither's start detection is certain
-                if o.start_frame == self.frame_index:
-                    o.size_ratio = None
+                   and self._bodies_overlap(b, o.box) > self.config.overlap_threshold] \
+            if self.config.start_ratio_alone else []
+        for o in stacked:  # started in this frame beside this one: neither's start detection is certain
+            if o.start_frame == self.frame_index:
+                o.size_ratio = None
+        # in a stack the ratio is learned later, from a detection while clear (:meth:`_adapt_box`)
+        ious = [] if stacked else [box_iou(b, det) for det in detections or []]
         if ious and max(ious) > 0.5:
             detected = np.array(detections[int(np.argmax(ious))][2:], float)
             d.size_ratio = np.clip(np.array(b[2:]) / detected, 1 / self.config.max_size_ratio,
@@ -745,7 +745,7 @@ class MultiDancerTracker(ReportedExtent):
         stored_speed = float(np.linalg.norm(d.stored_velocity))
         if len(d.centers) > c.motion_window:  # a full window since (re)start
             steps = len(d.centers) - 1
-            motion = (d.centers[-1] - d.centers[0]) / steps
+            motion = d.recent_motion
             moved = float(np.linalg.norm(motion)) * steps
             if stored_speed >= c.min_speed:
                 if moved >= c.min_motion_px and _angle_between(motion, d.stored_velocity) > c.failure_angle_deg:
@@ -778,10 +778,7 @@ class MultiDancerTracker(ReportedExtent):
         speed = float(np.linalg.norm(motion))
         for j in overlapping:
             o = self.dancers[j]
-            if o.status == TRACKED and len(o.centers) > 1:
-                theirs = (o.centers[-1] - o.centers[0]) / (len(o.centers) - 1)
-            else:
-                theirs = o.stored_velocity
+            theirs = o.recent_motion if o.status == TRACKED and len(o.centers) > 1 else o.stored_velocity
             their_speed = float(np.linalg.norm(theirs))
             if their_speed < 1e-6 or speed < 1e-6:
                 continue

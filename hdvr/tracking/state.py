@@ -51,6 +51,13 @@ class DancerTrack:
         return np.asarray(self.tracker.center, float)
 
     @property
+    def recent_motion(self) -> np.ndarray:
+        """Mean motion (px/frame) of the body core over the recent centres ``centers``; zero with fewer than 2."""
+        if len(self.centers) < 2:
+            return np.zeros(2)
+        return (self.centers[-1] - self.centers[0]) / (len(self.centers) - 1)
+
+    @property
     def center(self) -> np.ndarray:
         x, y, w, h = self.box
         return np.array([x + w / 2, y + h / 2])
