@@ -245,6 +245,33 @@ def test_a_hidden_dancer_reaches_as_far_as_its_arm_beside_the_one_in_front():
         np.testing.assert_allclose(result.boxes, STACKED_BOXES, atol=1e-6)
 
 
+def test_a_hidden_dancer_keeps_its_extent_until_it_shows_again():
+    """Once the arm of the dancer behind is no longer seen beside the one in front, it may as well be hidden behind
+    that dancer: the hidden dancer's box keeps its extent (``hold_hidden_extent``). Standing clear again, the
+    dancer shows that its arm is in, and the extent goes."""
+    boxes = {}
+    for hold in (True, False):
+        tracker = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES, MultiTrackerConfig(hold_hidden_extent=hold))
+        frame, kp_a = _stacked_scene(b_arm_tip=180.0)
+        for _ in range(6):
+            tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
+        assert tracker._hidden_behind(tracker.dancers[1]) and not tracker._hidden_behind(tracker.dancers[0])
+        frame, kp_a = _stacked_scene()  # the arm is down, behind A
+        for _ in range(6):
+            result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
+        boxes[hold] = result.boxes[1]
+    assert boxes[True][0] < 180 + 12, boxes[True]  # still reaching to where the arm was
+    assert boxes[False][0] > STACKED_BOXES[1][0] - 10, boxes[False]  # without the rule it shrinks back
+    # B steps out to the side, clear of A: nothing hides its arms, and the extent shrinks
+    tracker = MultiDancerTracker(frame, STACKED_BOXES, MultiTrackerConfig(pixel_extent=False))  # rule on
+    tracker.dancers[1].box = (470.0, 106.0, 60.0, 258.0)
+    assert not tracker._hidden_behind(tracker.dancers[1])
+    tracker.dancers[1].growth = np.array([100.0, 0.0, 0.0, 0.0])
+    for _ in range(6):
+        result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
+    assert tracker.dancers[1].growth[0] < 5
+
+
 def test_no_stacked_extent_where_the_front_dancers_arm_points_or_the_limb_is_too_long():
     """The detector often ends an arm short of the hand: where the front dancer's forearm points out to the side
     of the limb, the limb may be its own, and the hidden dancer's box does not grow. A limb longer than

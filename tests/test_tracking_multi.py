@@ -419,3 +419,41 @@ def test_size_ratio_not_learned_from_a_detection_on_a_stack():
     for box in (behind, front):
         old.add_dancer(frame, box, detections)
     assert old.dancers[0].size_ratio is not None and old.dancers[1].size_ratio is not None
+
+
+def test_a_couple_that_walks_away_together_shrinks_together():
+    """Two dancers who overlap all along keep the box size they met with unless their group scales: as both
+    detections shrink alike the boxes shrink with them, keeping their own size convention (a box 10 % larger than
+    the detector's stays so); a change seen on one dancer's detection alone (cut by the one in front) scales
+    nothing."""
+    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    boxes = [(300.0, 100.0, 70.0, 250.0), (330.0, 110.0, 66.0, 220.0)]  # cores overlap: one group
+    tracker = MultiDancerTracker(frame, boxes)
+    group = list(tracker.dancers)
+    assert len(tracker._groups(group)) == 1
+
+    def detections(scale_a, scale_b):  # detector boxes 10 % smaller than the dancers' boxes, scaled about them
+        out = []
+        for (x, y, w, h), s in zip(boxes, (scale_a, scale_b)):
+            cx, cy, dw, dh = x + w / 2, y + h / 2, w / 1.1 * s, h / 1.1 * s
+            out.append((cx - dw / 2, cy - dh / 2, dw, dh))
+        return out
+
+    tracker._scale_groups(group, detections(1.0, 1.0))  # the first frame together only records the reference
+    assert [d.box for d in tracker.dancers] == boxes
+    for _ in range(20):
+        tracker._scale_groups(group, detections(0.8, 0.8))
+    for d, box in zip(tracker.dancers, boxes):
+        assert d.box[3] == pytest.approx(0.8 * box[3], rel=0.02) and d.box[2] == pytest.approx(0.8 * box[2], rel=0.02)
+        assert d.center == pytest.approx([box[0] + box[2] / 2, box[1] + box[3] / 2])  # about the centre
+    alone = MultiDancerTracker(frame, boxes)
+    alone._scale_groups(list(alone.dancers), detections(1.0, 1.0))
+    for _ in range(5):
+        alone._scale_groups(list(alone.dancers), detections(1.0, 0.7))  # only the one behind: cut, not receding
+    assert [d.box for d in alone.dancers] == boxes
+    alone._scale_groups([], detections(1.0, 1.0))  # apart: the reference is dropped
+    assert all(d.group_reference is None for d in alone.dancers)
+    off = MultiDancerTracker(frame, boxes, MultiTrackerConfig(group_scale=False))
+    for _ in range(3):
+        off.step(frame, detections(0.8, 0.8))
+    assert [d.box[3] for d in off.dancers] == pytest.approx([b[3] for b in boxes], abs=1e-6)

@@ -10,7 +10,7 @@ tracking itself (overlaps, histograms, failure tests, relocation) never uses the
 
 :class:`ReportedExtent` is a mixin of :class:`hdvr.tracking.multi.MultiDancerTracker`; it reads the tracker's
 ``config`` (:class:`hdvr.tracking.multi.MultiTrackerConfig`: the ``pose_*``, ``pixel_*``, ``stacked_*``,
-``front_extent`` and ``grabcut_*`` fields), ``dancers`` (:class:`hdvr.tracking.state.DancerTrack`, whose
+``front_extent``, ``grabcut_*`` and ``hold_hidden_extent`` fields), ``dancers`` (:class:`hdvr.tracking.state.DancerTrack`, whose
 ``growth`` it sets), ``frame_index``, ``result()`` and the body-core geometry ``_core``, ``_bodies_overlap``,
 ``_overlapping``, ``_fit_score`` and ``_foreground``.
 
@@ -63,7 +63,8 @@ class ReportedExtent:
         (:meth:`_grabcut_reach`). Per side, the largest of these extents is approached. ``pose_extent`` off switches
         all off, ``pixel_extent`` off the last three.
 
-        Elsewhere the growth shrinks by that fraction. The box never shrinks below the tracked box (in a group a
+        Elsewhere the growth shrinks by that fraction, except (``hold_hidden_extent``) for a dancer hidden behind
+        another (:meth:`_hidden_behind`): no evidence can show that its limbs came in, so it keeps its extent. The box never shrinks below the tracked box (in a group a
         detection shows the visible part, which the dancer in front may cut), and the growth changes only the
         reported box, not the tracking (overlaps, histograms, failure tests, relocation). Returns the frame's
         result with the reported boxes."""
@@ -103,8 +104,21 @@ class ReportedExtent:
                         mask = skeleton_mask(keypoints, strip, size)
                         if mask is not None and mask.any():
                             target[side] = max(target[side], reach[side])
+            if c.hold_hidden_extent and self._hidden_behind(d):
+                target = np.maximum(target, d.growth)  # nothing can show its limbs are in: they stay out
             d.growth = (1 - a) * d.growth + a * target
         return self.result()
+
+    def _hidden_behind(self, d: DancerTrack) -> bool:
+        """Whether dancer ``d`` is hidden: occluded, or standing straight behind a tracked dancer (body cores
+        overlapping more than ``pose_stack_overlap``, intersection / smaller; the other's box bottom at least
+        ``pixel_front`` x ``d``'s height lower in the image)."""
+        c = self.config
+        if d.status == OCCLUDED:
+            return True
+        bottom = d.box[1] + d.box[3]
+        return any(o is not d and o.status == TRACKED and self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap
+                   and o.box[1] + o.box[3] > bottom + c.pixel_front * d.box[3] for o in self.dancers)
 
     def _pixel_reach(self, d: DancerTrack, fg: np.ndarray) -> tuple[float, float]:
         """How far (px) foreground pixels (``fg``: :func:`hdvr.tracking.appearance.foreground_mask`) run on from
