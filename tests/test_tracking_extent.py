@@ -391,3 +391,14 @@ def test_box_measures_share_one_intersection():
     assert box_iou(wide, narrow) == pytest.approx(76 / 200)
     assert box_inside((0.0, 0.0, 10.0, 10.0), (20.0, 20.0, 5.0, 5.0)) == 0.0
     assert box_inside((0.0, 0.0, 0.0, 10.0), wide) == 0.0
+
+
+def test_foreground_mask_is_computed_once_per_frame_and_boxes():
+    """Several tests of one frame share its foreground mask; another frame, or boxes that moved, get their own."""
+    frame, tracker = _tracker(pixel_extent=True)
+    first = tracker._foreground(frame)
+    assert tracker._foreground(frame) is first
+    assert tracker._foreground(frame.copy()) is not first  # another array, even with the same pixels
+    again = tracker._foreground(frame)
+    tracker.dancers[0].box = (250.0, 116.0, 76.0, 288.0)
+    assert tracker._foreground(frame) is not again  # the background is sampled around the new boxes

@@ -201,6 +201,7 @@ class MultiDancerTracker(ReportedExtent):
         self.frame_size = (frame.shape[1], frame.shape[0])
         self.frame_index = 0
         self.dancers: list[DancerTrack] = []
+        self._foreground_cache = None  # :meth:`_foreground`
         for b in boxes:
             self.add_dancer(frame, b)
 
@@ -626,10 +627,15 @@ class MultiDancerTracker(ReportedExtent):
     def _foreground(self, frame) -> np.ndarray | None:
         """Foreground mask of ``frame`` (:func:`hdvr.tracking.appearance.foreground_mask`), the background sampled
         around the tracked boxes of the dancers in the frame (not the reported ones: a reported box grown onto
-        background would take that background out of the sample and make it foreground, and grow further)."""
+        background would take that background out of the sample and make it foreground, and grow further).
+        Computed once per frame and set of boxes (several tests of a frame may ask for it)."""
         c = self.config
-        return foreground_mask(frame, [d.box for d in self.dancers if d.status != OUT], margin=c.pixel_margin,
-                               opening=c.pixel_opening)
+        boxes = tuple(d.box for d in self.dancers if d.status != OUT)
+        cached = self._foreground_cache  # (frame, boxes, mask): the frame itself is held, so it is that very array
+        if cached is None or cached[0] is not frame or cached[1] != boxes:
+            cached = (frame, boxes, foreground_mask(frame, list(boxes), margin=c.pixel_margin, opening=c.pixel_opening))
+            self._foreground_cache = cached
+        return cached[2]
 
     def _foreground_columns(self, frame, d: DancerTrack, skip=None) -> float | None:
         """Fraction of the columns of dancer ``d``'s box that hold max(3, ``pixel_min_thickness`` x the box height)
