@@ -152,6 +152,12 @@ def test_foreground_mask_marks_colours_rare_around_the_dancers():
     assert not fg[50, 200] and not fg[400, 500] and not fg[274, 500], "wall, floor and floor lines are not"
     # boxes covering almost the whole frame leave too little background to tell
     assert foreground_mask(frame, [(0.0, 0.0, 600.0, 480.0)]) is None
+    # a dancer close to the camera: its box widened by 0.3 x its height on each side covers the frame, so the
+    # background is sampled nearer (half, then a quarter of the margin)
+    near = (160.0, 10.0, 310.0, 460.0)  # 460 px tall
+    assert foreground_mask(frame, [near], margin_fallbacks=()) is None
+    fg = foreground_mask(frame, [near])
+    assert fg is not None and fg[180, 280] and fg[180, 120] and fg[200, 200] and not fg[50, 630] and not fg[400, 630]
 
 
 def test_box_grows_over_the_foreground_of_spread_arms():

@@ -86,28 +86,33 @@ def box_inside(inner, outer) -> float:
 
 
 def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: float = 1e-4,
-                    min_background: float = 0.1, opening: int = 3) -> np.ndarray | None:
+                    min_background: float = 0.1, opening: int = 3,
+                    margin_fallbacks: tuple[float, ...] = (0.5, 0.25)) -> np.ndarray | None:
     """bool mask (frame height, width) of the pixels whose colour is rare in the background: the background is
     every pixel outside ``boxes`` (x, y, w, h px, NaN rows ignored), each widened by ``margin`` = (sideways, up and
     down) x its height on each side (a dancer's spread arms reach beyond its box); a pixel is foreground when the
     fraction of background pixels in its colour bin (16 levels per BGR channel) is below ``rarity``. An opening
-    (``opening`` x ``opening`` px square) removes thinner specks and lines. None when less than ``min_background``
-    of the frame is background (too little to tell). Needs no frame history, so it works with a moving camera, as
+    (``opening`` x ``opening`` px square) removes thinner specks and lines. Where the widened boxes leave less than
+    ``min_background`` of the frame (dancers close to the camera), the margin is scaled by each of
+    ``margin_fallbacks`` in turn; None when even then too little is background to tell. Needs no frame history, so it works with a moving camera, as
     long as the dancers' clothes and skin differ in colour from the floor and walls around them.
 
     The 4096-bin colour histogram is counted and looked up with numpy (``np.bincount`` and a uint8 table): OpenCV's
     ``calcBackProject`` returned an all-zero image for a normalised 3-D float histogram here (OpenCV 5.0)."""
     h, w = frame_bgr.shape[:2]
-    background = np.ones((h, w), bool)
-    for box in boxes:
-        x, y, bw, bh = (float(v) for v in box)
-        if not np.isfinite([x, y, bw, bh]).all():
-            continue
-        mx, my = margin[0] * bh, margin[1] * bh
-        r = clip_box((x - mx, y - my, bw + 2 * mx, bh + 2 * my), (w, h))
-        if r is not None:
-            background[r[1]:r[3], r[0]:r[2]] = False
-    count = int(background.sum())
+    for shrink in (1.0, *margin_fallbacks):
+        background = np.ones((h, w), bool)
+        for box in boxes:
+            x, y, bw, bh = (float(v) for v in box)
+            if not np.isfinite([x, y, bw, bh]).all():
+                continue
+            mx, my = margin[0] * bh * shrink, margin[1] * bh * shrink
+            r = clip_box((x - mx, y - my, bw + 2 * mx, bh + 2 * my), (w, h))
+            if r is not None:
+                background[r[1]:r[3], r[0]:r[2]] = False
+        count = int(background.sum())
+        if count >= min_background * h * w:
+            break
     if count < min_background * h * w:
         return None
     q = (frame_bgr >> 4).astype(np.uint16)
