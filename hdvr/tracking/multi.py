@@ -9,8 +9,8 @@ cores too, so spread arms do not count. Per frame:
 2. while it overlaps another dancer the tracker does not learn; a *tracking failure* shows as a sudden change of
    motion (direction turned by more than ``failure_angle_deg``, a stall or a jump; a dancer with no stored
    velocity, e.g. one that has overlapped others since it started, fails by moving off only when it moves like a
-   dancer it overlaps: its tracker is being dragged along) or as a histogram that no longer matches the stored
-   one;
+   dancer it overlaps or its box no longer looks much like it: its tracker is being dragged along) or as a
+   histogram that no longer matches the stored one;
 3. on a failure the dancer is *occluded*: its box moves on with the stored velocity, and the frame where the
    overlap will end is predicted from the stored velocities of the dancers involved;
 4. occluded dancers that show clearly again (own tracker or a detection clear of every tracked dancer, matching
@@ -83,6 +83,9 @@ class MultiTrackerConfig:
     # like a dancer it overlaps (its tracker dragged along: :meth:`_moves_with`)
     follower_angle_deg: float = 45.0  # ... within this angle of that dancer's motion
     follower_speed_ratio: float = 2.0  # ... and within this factor of its speed
+    still_histogram: float = 0.7  # ... or when its box matches its stored histogram less than this: it moves off
+    # onto another look (dragged by a dancer whose own tracker is lost, so whose motion is unknown; seed 137 ballet
+    # of hdvr synth: a still dancer's tracker went off with the dancer passing in front, IDF1 0.883 -> 0.985)
     same_person_iou: float = 0.5  # two tracked boxes overlapping more than this (IoU) may be on the same person:
     # the one matching its own memory worse has failed
     cone_half_angle_deg: float = 25.0
@@ -825,6 +828,7 @@ class MultiDancerTracker(ReportedExtent):
 
     def _failed(self, d: DancerTrack, frame, overlapping: list[int], boxes) -> bool:
         c = self.config
+        similarity = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
         stored_speed = float(np.linalg.norm(d.stored_velocity))
         if len(d.centers) > c.motion_window:  # a full window since (re)start
             steps = len(d.centers) - 1
@@ -836,12 +840,12 @@ class MultiDancerTracker(ReportedExtent):
                 expected = stored_speed * steps
                 if expected >= c.min_motion_px and (moved < 0.3 * expected or moved > 2.5 * expected + 2 * steps):
                     return True
-            elif moved > c.min_motion_px + 0.05 * d.box[3] and (not c.still_needs_follower
-                                                                 or self._moves_with(motion, overlapping)):
-                return True  # a still dancer that suddenly moves off with an overlapping one
+            elif moved > c.min_motion_px + 0.05 * d.box[3] and (
+                    not c.still_needs_follower or self._moves_with(motion, overlapping)
+                    or similarity < c.still_histogram):
+                return True  # a still dancer that suddenly moves off with an overlapping one, or onto another look
         if d.tracker.confidence < c.failure_psr:
             return True
-        similarity = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
         if similarity < c.failure_histogram:
             return True
         # two trackers on the same person: the one that matches its memory worse has failed
