@@ -10,9 +10,9 @@ tracking itself (overlaps, histograms, failure tests, relocation) never uses the
 
 :class:`ReportedExtent` is a mixin of :class:`hdvr.tracking.multi.MultiDancerTracker`; it reads the tracker's
 ``config`` (:class:`hdvr.tracking.multi.MultiTrackerConfig`: the ``pose_*``, ``pixel_*``, ``stacked_*``,
-``front_extent``, ``grabcut_*`` and ``hold_hidden_extent`` fields), ``dancers`` (:class:`hdvr.tracking.state.DancerTrack`, whose
-``growth`` it sets), ``frame_index``, ``result()`` and the body-core geometry ``_core``, ``_bodies_overlap``,
-``_overlapping``, ``_fit_score`` and ``_foreground``.
+``front_extent``, ``grabcut_*`` and ``hold_hidden_extent`` fields), ``dancers``
+(:class:`hdvr.tracking.state.DancerTrack`, whose ``growth`` it sets), ``frame_index``, ``result()`` and the body-core
+geometry ``_core``, ``_bodies_overlap``, ``_overlapping``, ``_fit_score`` and ``_foreground``.
 
 Boxes are (x, y, w, h) pixels, top-left corner.
 """
@@ -64,10 +64,10 @@ class ReportedExtent:
         all off, ``pixel_extent`` off the last three.
 
         Elsewhere the growth shrinks by that fraction, except (``hold_hidden_extent``) for a dancer hidden behind
-        another (:meth:`_hidden_behind`): no evidence can show that its limbs came in, so it keeps its extent. The box never shrinks below the tracked box (in a group a
-        detection shows the visible part, which the dancer in front may cut), and the growth changes only the
-        reported box, not the tracking (overlaps, histograms, failure tests, relocation). Returns the frame's
-        result with the reported boxes."""
+        another (:meth:`_hidden_behind`): no evidence can show that its limbs came in, so it keeps its extent. The
+        box never shrinks below the tracked box (in a group a detection shows the visible part, which the dancer in
+        front may cut), and the growth changes only the reported box, not the tracking (overlaps, histograms,
+        failure tests, relocation). Returns the frame's result with the reported boxes."""
         c = self.config
         if not c.pose_extent:
             return self.result()

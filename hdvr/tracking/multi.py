@@ -22,12 +22,12 @@ cores too, so spread arms do not count. Per frame:
 When person detections are given (``step(frame, detections)``), only those that can be one dancer alone count
 (body core clear of the other dancers, plausible height). The box of a clear dancer adapts its size and centre to
 the one detection on it; the boxes of dancers overlapping one another scale together when their detections grow or
-shrink alike (:meth:`MultiDancerTracker._scale_groups`). A clear dancer whose box has held no detected person for ``max_missed_detections``
-detector frames in a row may have lost its dancer (e.g. in a jump): if a detected person nearby, tracked by no
-one, matches its stored histogram clearly better than its box does, the dancer moves there and its tracker
-restarts; after ``long_lost_detections`` such frames the box's own match no longer counts, and the recovered box
-follows the detections for ``recovery_frames``. Its stored histogram is only updated on frames where no
-detection is missing on its box.
+shrink alike (:meth:`MultiDancerTracker._scale_groups`). A clear dancer whose box has held no detected person for
+``max_missed_detections`` detector frames in a row may have lost its dancer (e.g. in a jump): if a detected person
+nearby, tracked by no one, matches its stored histogram clearly better than its box does, the dancer moves there
+and its tracker restarts; after ``long_lost_detections`` such frames the box's own match no longer counts, and the
+recovered box follows the detections for ``recovery_frames``. Its stored histogram is only updated on frames where
+no detection is missing on its box.
 
 After Algorithm 2* has chosen each dancer's pose on a detector frame, the *reported* box may reach beyond the
 tracked one (spread arms, a raised leg): :mod:`hdvr.tracking.extent` (a mixin of this tracker). The tracking itself
@@ -726,9 +726,8 @@ class MultiDancerTracker(ReportedExtent):
     def _adapt_in_group(self, frame, group: list[DancerTrack], detections) -> None:
         """Boxes of tracked dancers that overlap others adapt to detections that can be assigned to them
         unambiguously (:meth:`_unambiguous_detections`) and whose height is within ``max_height_change`` of the
-        box's. The box moves ``group_adaptation`` of the way towards it (size
-        and offset from the tracker's centre, as for a clear dancer); the tracker is not restarted (its template
-        would take in the dancers around)."""
+        box's. The box moves ``group_adaptation`` of the way towards it (size and offset from the tracker's centre,
+        as for a clear dancer); the tracker is not restarted (its template would take in the dancers around)."""
         c = self.config
         if not group or not detections:
             return
