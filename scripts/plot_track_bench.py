@@ -15,7 +15,7 @@ import re
 import sys
 from pathlib import Path
 
-DEFAULT_SECTIONS = ("### Synthetic dancers, seeds 7-139 (session 11)",)
+DEFAULT_SECTIONS = ("### Synthetic dancers, seeds 7-139 (session 12)",)
 NUMBER = r"\s*(-?[\d.]+)\s*\|"
 # seed | clip_XXXXX genre | dancers | threshold | IDF1 | MOTA | HOTA | ID switches |
 ROW = re.compile(r"^\|\s*(\d+)\s*\|\s*(clip_\d+)\s+(\w+)\s*\|" + NUMBER * 6)
