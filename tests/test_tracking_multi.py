@@ -454,10 +454,14 @@ def test_a_couple_that_walks_away_together_shrinks_together():
     assert [d.box for d in alone.dancers] == boxes
     alone._scale_groups([], detections(1.0, 1.0))  # apart: the reference is dropped
     assert all(d.group_reference is None for d in alone.dancers)
-    off = MultiDancerTracker(frame, boxes, MultiTrackerConfig(group_scale=False))
-    for _ in range(3):
-        off.step(frame, detections(0.8, 0.8))
-    assert [d.box[3] for d in off.dancers] == pytest.approx([b[3] for b in boxes], abs=1e-6)
+    heights = {}
+    for rule in (True, False):  # through step(): the group scales with the rule, keeps its size without
+        stepped = MultiDancerTracker(frame, boxes, MultiTrackerConfig(group_scale=rule))
+        for scale in (1.0,) + (0.8,) * 6:
+            stepped.step(frame, detections(scale, scale))
+        heights[rule] = [d.box[3] for d in stepped.dancers]
+    assert all(h < 0.9 * b[3] for h, b in zip(heights[True], boxes)), heights[True]
+    assert heights[False] == pytest.approx([b[3] for b in boxes], abs=1e-6)
 
 
 def test_still_dancer_moving_off_onto_another_look_is_a_tracking_failure():
