@@ -3,7 +3,9 @@
 Reads the synthetic-clip tables that ``scripts/bench_track.py --sections synth`` writes (markdown rows
 ``| seed | clip_XXXXX genre | dancers | threshold | IDF1 | MOTA | HOTA | ID switches | ...``) from the named sections
 of a markdown file (default docs/benchmarks.md) and draws one dot per clip: x = clip (genre and dancer count),
-y = IDF1, one colour per seed, a ring around clips with identity switches, the 0.9 target as a line.
+y = IDF1, one colour per seed, a ring around clips with identity switches, the 0.9 target as a line. Where the
+table has the column "IDF1 / switches at IoU 0.4" (since session 12), a clip below the target also gets a grey tick
+at that IDF1: how much of its loss is box extent rather than identity.
 
     python3 scripts/plot_track_bench.py [--markdown docs/benchmarks.md] [--out docs/img/tracking_synth_idf1.png]
 """
@@ -19,6 +21,8 @@ DEFAULT_SECTIONS = ("### Synthetic dancers, seeds 7-139 (session 12)",)
 NUMBER = r"\s*(-?[\d.]+)\s*\|"
 # seed | clip_XXXXX genre | dancers | threshold | IDF1 | MOTA | HOTA | ID switches |
 ROW = re.compile(r"^\|\s*(\d+)\s*\|\s*(clip_\d+)\s+(\w+)\s*\|" + NUMBER * 6)
+# ... | IDF1 / switches at IoU 0.4 |: the last column of the tables since session 12 (absent before)
+LOOSE = re.compile(r"\|\s*([-\d.]+)\s*/\s*(\d+)\s*\|\s*$")
 
 
 def read_rows(text: str, heading: str) -> list[dict]:
@@ -27,12 +31,16 @@ def read_rows(text: str, heading: str) -> list[dict]:
     if start < 0:
         raise SystemExit(f"plot_track_bench: error: no section '{heading}' in the markdown file")
     end = text.find("\n### ", start + len(heading))
-    rows = []
+    rows, header = [], ""
     for line in text[start:end if end > 0 else None].splitlines():
         m = ROW.match(line)
         if m:
+            loose = LOOSE.search(line) if "at IoU 0.4" in header else None
             rows.append({"seed": int(m[1]), "clip": m[2], "genre": m[3], "dancers": int(m[4]),
-                         "idf1": float(m[6]), "switches": int(float(m[9]))})
+                         "idf1": float(m[6]), "switches": int(float(m[9])),
+                         "idf1_loose": float(loose[1]) if loose else None})
+        elif line.startswith("| seed |"):
+            header = line
     if not rows:
         raise SystemExit(f"plot_track_bench: error: section '{heading}' has no synthetic-clip rows")
     return rows
@@ -63,12 +71,18 @@ def main(argv=None) -> int:
     seeds = sorted({r["seed"] for r in rows})
     held_out = {int(v) for v in args.held_out.split(",") if v.strip()}
     fig, ax = plt.subplots(figsize=(10.5, 4.2))
+    loose_labelled = False
     for k, seed in enumerate(seeds):
         mine = [r for r in rows if r["seed"] == seed]
         xs = [clips.index((r["clip"], r["genre"], r["dancers"])) + (k - (len(seeds) - 1) / 2) * 0.09 for r in mine]
         ax.scatter(xs, [r["idf1"] for r in mine], s=28, zorder=3,
                    label=f"seed {seed}" + (" (held out)" if seed in held_out else ""))
         for x, r in zip(xs, mine):
+            if r["idf1_loose"] is not None and r["idf1"] < args.target:  # what of the loss is box extent
+                ax.plot([x, x], [r["idf1"], r["idf1_loose"]], color="grey", linewidth=0.8, zorder=2)
+                ax.scatter([x], [r["idf1_loose"]], s=28, marker="_", color="grey", zorder=2,
+                           label="same clip at IoU 0.4" if not loose_labelled else None)
+                loose_labelled = True
             if r["switches"]:
                 ax.scatter([x], [r["idf1"]], s=140, facecolors="none", edgecolors="red", linewidths=1.5, zorder=4)
                 ax.annotate(f"{r['switches']} sw", (x, r["idf1"]), textcoords="offset points", xytext=(6, -10),

@@ -22,6 +22,12 @@ MARKDOWN = """# Benchmarks
 |---|---|---|---|---|---|---|---|---|
 | 97 | clip_00003 flamenco | 3 | 0.3 | 0.828 | 0.656 | 0.698 | 0 | 0.20 / 1.00 / 1.00 |
 
+### Synthetic dancers, seeds 7-139 (session 12)
+
+| seed | clip | dancers | detector threshold | IDF1 | MOTA | HOTA | ID switches | pose per dancer | IDF1 / switches at IoU 0.4 |
+|---|---|---|---|---|---|---|---|---|---|
+| 127 | clip_00000 tango | 2 | 0.3 | 0.800 | 0.600 | 0.600 | 0 | 1.00 / 1.00 | 1.000 / 0 |
+
 ### Something else
 
 | 5 | clip_00001 swing | 2 | 0.3 | 0.100 | 0.100 | 0.100 | 9 | not read |
@@ -42,12 +48,20 @@ def test_rows_are_read_from_the_named_section_only():
         [(7, "tango", 2, 1.0, 0), (7, "ballet", 4, 0.846, 2)]
 
 
+def test_the_idf1_at_iou_04_is_read_where_the_table_has_it():
+    module = load_script()
+    [row] = module.read_rows(MARKDOWN, "### Synthetic dancers, seeds 7-139 (session 12)")
+    assert (row["seed"], row["idf1"], row["idf1_loose"]) == (127, 0.8, 1.0)
+    assert all(r["idf1_loose"] is None for r in module.read_rows(MARKDOWN, "### Synthetic dancers with keypoints"))
+
+
 def test_plot_is_written(tmp_path):
     module = load_script()
     markdown = tmp_path / "bench.md"
     markdown.write_text(MARKDOWN)
     out = tmp_path / "img" / "idf1.png"
-    sections = ["### Synthetic dancers with keypoints, seeds 7", "### Synthetic dancers, held-out seeds"]
+    sections = ["### Synthetic dancers with keypoints, seeds 7", "### Synthetic dancers, held-out seeds",
+                "### Synthetic dancers, seeds 7-139 (session 12)"]
     assert module.main(["--markdown", str(markdown), "--out", str(out), "--sections", *sections]) == 0
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert not [p for p in out.parent.iterdir() if p.name.startswith(".")]  # no temporary file left
