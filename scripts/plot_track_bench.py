@@ -4,8 +4,8 @@ Reads the synthetic-clip tables that ``scripts/bench_track.py --sections synth``
 ``| seed | clip_XXXXX genre | dancers | threshold | IDF1 | MOTA | HOTA | ID switches | ...``) from the named sections
 of a markdown file (default docs/benchmarks.md) and draws one dot per clip: x = clip (genre and dancer count),
 y = IDF1, one colour per seed, a ring around clips with identity switches, the 0.9 target as a line. Where the
-table has the column "IDF1 / switches at IoU 0.4" (since session 12), a clip below the target also gets a grey tick
-at that IDF1: how much of its loss is box extent rather than identity.
+table has the column "IDF1 / switches at IoU 0.4" (since session 12), a clip below the target or with switches also
+gets a grey tick at that IDF1: how much of its loss is box extent rather than identity.
 
     python3 scripts/plot_track_bench.py [--markdown docs/benchmarks.md] [--out docs/img/tracking_synth_idf1.png]
 """
@@ -78,7 +78,7 @@ def main(argv=None) -> int:
         ax.scatter(xs, [r["idf1"] for r in mine], s=28, zorder=3,
                    label=f"seed {seed}" + (" (held out)" if seed in held_out else ""))
         for x, r in zip(xs, mine):
-            if r["idf1_loose"] is not None and r["idf1"] < args.target:  # what of the loss is box extent
+            if r["idf1_loose"] is not None and (r["idf1"] < args.target or r["switches"]):  # loss from box extent
                 ax.plot([x, x], [r["idf1"], r["idf1_loose"]], color="grey", linewidth=0.8, zorder=2)
                 ax.scatter([x], [r["idf1_loose"]], s=28, marker="_", color="grey", zorder=2,
                            label="same clip at IoU 0.4" if not loose_labelled else None)
@@ -98,7 +98,10 @@ def main(argv=None) -> int:
     switched = sum(r["switches"] > 0 for r in rows)
     ax.set_title(f"Tracking on hdvr.synth clips: {len(rows)} clips, {below} below {args.target:g}, "
                  f"{switched} with identity switches (red rings)", fontsize=10)
-    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # outside: no dot hidden
+    handles, labels = ax.get_legend_handles_labels()
+    order = sorted(range(len(labels)), key=lambda i: labels[i].startswith("same clip"))  # the tick's entry last
+    ax.legend([handles[i] for i in order], [labels[i] for i in order], fontsize=8, loc="upper left",
+              bbox_to_anchor=(1.01, 1.0))  # outside: no dot hidden
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
     args.out.parent.mkdir(parents=True, exist_ok=True)
