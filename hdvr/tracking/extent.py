@@ -113,12 +113,17 @@ class ReportedExtent:
         """Whether dancer ``d`` is hidden: occluded, or standing straight behind a tracked dancer (body cores
         overlapping more than ``pose_stack_overlap``, intersection / smaller; the other's box bottom at least
         ``pixel_front`` x ``d``'s height lower in the image)."""
-        c = self.config
         if d.status == OCCLUDED:
             return True
-        bottom = d.box[1] + d.box[3]
-        return any(o is not d and o.status == TRACKED and self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap
-                   and o.box[1] + o.box[3] > bottom + c.pixel_front * d.box[3] for o in self.dancers)
+        return any(o is not d and o.status == TRACKED and self._straight_in_front(o, d) for o in self.dancers)
+
+    def _straight_in_front(self, f: DancerTrack, d: DancerTrack) -> bool:
+        """Whether dancer ``f`` stands straight in front of dancer ``d``: body cores overlapping more than
+        ``pose_stack_overlap`` (intersection / smaller) and ``f``'s box bottom at least ``pixel_front`` x ``d``'s
+        height lower in the image."""
+        c = self.config
+        return (self._bodies_overlap(f.box, d.box) > c.pose_stack_overlap
+                and f.box[1] + f.box[3] > d.box[1] + d.box[3] + c.pixel_front * d.box[3])
 
     def _pixel_reach(self, d: DancerTrack, fg: np.ndarray) -> tuple[float, float]:
         """How far (px) foreground pixels (``fg``: :func:`hdvr.tracking.appearance.foreground_mask`) run on from
@@ -202,8 +207,8 @@ class ReportedExtent:
     def _stacked_pairs(self, fg: np.ndarray, poses, margins):
         """Dancers standing straight behind one another, with the foreground beside them: yields (d, f, runs,
         own) for each dancer d (tracked or occluded, no clear pose of its own) behind a tracked dancer f with a
-        clearly chosen pose (margin >= ``pose_margin``). d stands behind f when their body cores overlap more than
-        ``pose_stack_overlap`` and f's box bottom is at least ``pixel_front`` x the height lower in the image.
+        clearly chosen pose (margin >= ``pose_margin``) that stands straight in front of it
+        (:meth:`_straight_in_front`).
         ``runs``: how far (px) foreground runs on from f's box to the left and right at d's arm height
         (:meth:`_run_reach`). ``own``: per side, whether that limb may be f's: f's skeleton reaches beyond its box
         there by more than ``stacked_arm_out`` x f's height, or one of its forearms points out to that side by as
@@ -215,11 +220,9 @@ class ReportedExtent:
             for j, f in enumerate(self.dancers):
                 if f is d or f.status != TRACKED or not self._clear_pose(j, poses, margins):
                     continue
-                if self._bodies_overlap(f.box, d.box) <= c.pose_stack_overlap:
+                if not self._straight_in_front(f, d):
                     continue
                 fx, fy, fw, fh = f.box
-                if fy + fh <= d.box[1] + d.box[3] + c.pixel_front * d.box[3]:
-                    continue  # f is not in front of d
                 kp = poses[j].body25()
                 seen = kp[:, 2] > 0
                 if not seen.any():
