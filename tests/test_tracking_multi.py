@@ -484,3 +484,37 @@ def test_still_dancer_moving_off_onto_another_look_is_a_tracking_failure():
         similarity = histogram_similarity(colour_histogram(frame, box), still.stored_histogram)
         assert tracker.config.failure_histogram < similarity, similarity  # the old histogram test passes it
         assert tracker._failed(still, frame, [1], [still.box, passing.box]) == expected, (still_histogram, box)
+
+
+def test_occluded_dancer_reidentified_beside_a_dancer_without_a_detection():
+    """A detection beside a tracked dancer that holds no detection of its own (hidden behind someone else)
+    re-identifies an occluded dancer when its colours match that dancer's memory clearly better than the tracked
+    one's; a box much taller than the dancer's (YOLO's box around two figures) does not, nor one that matches the
+    tracked dancer's memory about as well, nor does the option off."""
+    rng = np.random.default_rng(2)
+    background = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
+    tracked_box, hidden_box = (200.0, 100.0, 60.0, 200.0), (420.0, 100.0, 60.0, 200.0)
+    first = background.copy()
+    first[100:300, 200:260] = (200, 40, 30)  # the tracked dancer: blue (BGR)
+    first[100:300, 420:480] = (30, 40, 210)  # the one that will be occluded: red
+    beside = (245.0, 100.0, 60.0, 200.0)  # its body core overlaps the tracked dancer's by a quarter
+    later = background.copy()
+    later[100:300, 245:305] = (30, 40, 210)
+    later[100:300, 200:250] = (200, 40, 30)  # the tracked dancer, partly hidden behind it
+
+    def reidentified(detection, config=None, start=first) -> bool:
+        tracker = MultiDancerTracker(start, [tracked_box, hidden_box], config)
+        still, hidden = tracker.dancers
+        hidden.status, hidden.box = OCCLUDED, beside
+        assert tracker.config.overlap_threshold < tracker._bodies_overlap(detection, still.box) < 0.5
+        tracker._reidentify(later, [hidden], [hidden_box], [detection])
+        if hidden.status == TRACKED:
+            assert hidden.box == detection
+        return hidden.status == TRACKED
+
+    assert reidentified(beside)
+    assert not reidentified((245.0, 40.0, 60.0, 300.0))  # 1.5 x the dancer's height
+    assert not reidentified(beside, MultiTrackerConfig(reid_beside_unheld=False))
+    alike = first.copy()
+    alike[100:300, 200:260] = (40, 50, 200)  # the tracked dancer dressed like the hidden one: it may be either
+    assert not reidentified(beside, start=alike)

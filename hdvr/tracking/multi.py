@@ -98,6 +98,8 @@ class MultiTrackerConfig:
     reid_beside_held: bool = True  # a detection that overlaps tracked dancers may re-identify an occluded dancer
     # when each of them holds a detection of its own (:meth:`_reidentify`)
     reid_held_overlap: float = 0.5  # ... whose body core this one overlaps less than this (intersection / smaller)
+    reid_beside_unheld: bool = True  # ... or tracked dancers without a detection whose memory it matches worse
+    reid_unheld_height: float = 1.3  # ... if its height is within this factor of the occluded dancer's box
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
@@ -538,12 +540,13 @@ class MultiDancerTracker(ReportedExtent):
         d.tracker.init(frame, self._core(box))
         d.stored_velocity = np.zeros(2)
 
-    def _histogram_matches(self, frame, candidates, rivals) -> list[tuple[DancerTrack, tuple, float]]:
+    def _histogram_matches(self, frame, candidates, rivals, box_rivals=None) -> list[tuple[DancerTrack, tuple, float]]:
         """One-to-one matches of dancers to candidate boxes (px) by colour histogram, best first:
         ``candidates`` is a list of (dancer, boxes). A box is taken for its dancer when its histogram correlates
         with the dancer's memory at least ``reid_similarity`` and better by ``reid_margin`` than with the memory of
-        every other dancer in ``rivals``, and when it is clear of the boxes taken before (the dancer in front of a
-        group shows whole and is taken first). Returns (dancer, box, similarity) triples."""
+        every other dancer in ``rivals`` (and in ``box_rivals[box]``, dancers that box stands beside), and when it
+        is clear of the boxes taken before (the dancer in front of a group shows whole and is taken first). Returns
+        (dancer, box, similarity) triples."""
         c = self.config
         options = []
         for d, boxes in candidates:
@@ -558,8 +561,9 @@ class MultiDancerTracker(ReportedExtent):
             if any(m[0] is d for m in matches) or any(self._bodies_overlap(box, m[1]) > c.overlap_threshold
                                                       for m in matches):
                 continue
+            extra = (box_rivals or {}).get(tuple(box), [])
             if any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
-                   for o in rivals if o is not d):
+                   for o in list(rivals) + extra if o is not d):
                 continue
             matches.append((d, box, score))
         return matches
@@ -926,6 +930,10 @@ class MultiDancerTracker(ReportedExtent):
         core of theirs less than ``reid_held_overlap`` (``reid_beside_held``): then it is a second person beside
         them, not them nor a box around them (a dancer in front of a partner's spread arm; taking any detection
         that overlaps a tracked dancer cost IDF1 0.15-0.2 on procedural 4-dancer clips with the detector).
+        With ``reid_beside_unheld``, a detection may also overlap (less than ``reid_held_overlap`` of the core)
+        tracked dancers that hold no detection, e.g. one hidden behind a third dancer, when its height is within
+        ``reid_unheld_height`` of the occluded dancer's box; those dancers' memories are then rivals too: the
+        detection must match the occluded dancer's memory by ``reid_margin`` better than theirs.
         Matched by :meth:`_histogram_matches` against the other occluded dancers' memories."""
         c = self.config
         if not occluded:
@@ -935,19 +943,39 @@ class MultiDancerTracker(ReportedExtent):
         claims = self._claims(dets)
         free = [det for k, det in enumerate(dets) if k not in claims.values()]
 
+        box_rivals: dict[tuple, list[DancerTrack]] = {}
+
         def clear(box, is_detection: bool) -> bool:
             # clear of every tracked dancer's body core, or (a detection) of every one that holds a detection of
-            # its own that this one does not mostly overlap (a box around both, or a part of it)
-            return all(self._bodies_overlap(box, o.box) <= c.overlap_threshold
-                       or (is_detection and c.reid_beside_held and o.dancer_id in claims
-                           and self._bodies_overlap(box, dets[claims[o.dancer_id]]) < c.reid_held_overlap)
-                       for o in tracked)
+            # its own that this one does not mostly overlap (a box around both, or a part of it), or of every one
+            # without a detection whose core it overlaps less than half: then that dancer is one more rival
+            rivals = []
+            for o in tracked:
+                if self._bodies_overlap(box, o.box) <= c.overlap_threshold:
+                    continue
+                if is_detection and c.reid_beside_held and o.dancer_id in claims:
+                    if self._bodies_overlap(box, dets[claims[o.dancer_id]]) < c.reid_held_overlap:
+                        continue
+                    return False
+                if is_detection and c.reid_beside_unheld and o.dancer_id not in claims and \
+                        o.stored_histogram is not None and self._bodies_overlap(box, o.box) < c.reid_held_overlap:
+                    rivals.append(o)
+                    continue
+                return False
+            if rivals:
+                box_rivals[tuple(box)] = rivals
+            return True
 
         candidates = []
         for d, own in zip(occluded, own_boxes):
             radius = c.min_search_radius * d.box[3] * 2
             near = [det for det in free if min(np.linalg.norm(box_centre(det) - d.center),
                                                np.linalg.norm(box_centre(det) - box_centre(d.stored_box))) <= radius]
-            candidates.append((d, [box for box in near if clear(box, True)] + ([own] if clear(own, False) else [])))
-        for d, box, score in self._histogram_matches(frame, candidates, occluded):
+            boxes = [box for box in near if clear(box, True)]
+            # beside a dancer without a detection, a box of about the dancer's height only (YOLO's box around two
+            # figures, or a figure and its shadow, is taller)
+            boxes = [box for box in boxes if tuple(box) not in box_rivals
+                     or 1 / c.reid_unheld_height <= box[3] / d.box[3] <= c.reid_unheld_height]
+            candidates.append((d, boxes + ([own] if clear(own, False) else [])))
+        for d, box, score in self._histogram_matches(frame, candidates, occluded, box_rivals):
             self._take(d, box, score)
