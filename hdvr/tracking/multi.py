@@ -752,13 +752,22 @@ class MultiDancerTracker(ReportedExtent):
         if not dets or not live:
             return {}
         boxes = [d.box if d.status == TRACKED else self._predicted_box(d, self.frame_index) for d in live]
-        score = np.array([[self._fit_score(b, det) for det in dets] for b in boxes])
+        score, pairs = self._fit_assignment(boxes, dets)
         assigned = {}
-        for i, k in zip(*linear_sum_assignment(-score)):
+        for i, k in pairs:
             others = np.delete(score[:, k], i)
-            if score[i, k] >= c.group_min_score and not (others.size and others.max() > score[i, k] - c.group_margin):
+            if not (others.size and others.max() > score[i, k] - c.group_margin):
                 assigned[live[i].dancer_id] = dets[k]
         return assigned
+
+    def _fit_assignment(self, boxes, dets) -> tuple[np.ndarray, list[tuple[int, int]]]:
+        """One assignment (Hungarian) of detections ``dets`` to dancer ``boxes`` (both (x, y, w, h) px) on
+        :meth:`_fit_score`: the score matrix (boxes x detections) and the (box, detection) index pairs whose fit
+        is at least ``group_min_score``."""
+        score = np.array([[self._fit_score(b, det) for det in dets] for b in boxes])
+        pairs = [(int(i), int(k)) for i, k in zip(*linear_sum_assignment(-score))
+                 if score[i, k] >= self.config.group_min_score]
+        return score, pairs
 
     def _groups(self, dancers: list[DancerTrack]) -> list[list[DancerTrack]]:
         """``dancers`` split into groups: connected by body cores that overlap (``overlap_threshold``)."""
@@ -916,9 +925,8 @@ class MultiDancerTracker(ReportedExtent):
         tracked = [o for o in self.dancers if o.status == TRACKED]
         if not tracked or not detections:
             return {}
-        score = np.array([[self._fit_score(o.box, det) for det in detections] for o in tracked])
-        return {tracked[i].dancer_id: int(k) for i, k in zip(*linear_sum_assignment(-score))
-                if score[i, k] >= self.config.group_min_score}
+        _, pairs = self._fit_assignment([o.box for o in tracked], detections)
+        return {tracked[i].dancer_id: k for i, k in pairs}
 
     def _reidentify(self, frame, occluded: list[DancerTrack], own_boxes: list, detections) -> None:
         """Occluded dancers that show clearly again take their place before the predicted end of the overlap.
