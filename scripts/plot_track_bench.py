@@ -17,7 +17,7 @@ import re
 import sys
 from pathlib import Path
 
-DEFAULT_SECTIONS = ("### Synthetic dancers, seeds 7-139 (session 12)",)
+DEFAULT_SECTIONS = ("### Synthetic dancers, seeds 7-139 (session 13)", "### Synthetic dancers, fresh seeds 151, 163 and 173 (session 13)")
 NUMBER = r"\s*(-?[\d.]+)\s*\|"
 # seed | clip_XXXXX genre | dancers | threshold | IDF1 | MOTA | HOTA | ID switches |
 ROW = re.compile(r"^\|\s*(\d+)\s*\|\s*(clip_\d+)\s+(\w+)\s*\|" + NUMBER * 6)
@@ -53,7 +53,7 @@ def main(argv=None) -> int:
     parser.add_argument("--sections", nargs="*", default=list(DEFAULT_SECTIONS),
                         help="section headings (their start) to read")
     parser.add_argument("--target", type=float, default=0.9)
-    parser.add_argument("--held-out", default="97,101,113,127,131,137,139",
+    parser.add_argument("--held-out", default="97,101,113,127,131,137,139,151,163,173",
                         help="seeds rendered after the tracker's rules were written (marked in the legend)")
     args = parser.parse_args(argv)
     if not args.markdown.is_file():
@@ -75,8 +75,9 @@ def main(argv=None) -> int:
     for k, seed in enumerate(seeds):
         mine = [r for r in rows if r["seed"] == seed]
         xs = [clips.index((r["clip"], r["genre"], r["dancers"])) + (k - (len(seeds) - 1) / 2) * 0.09 for r in mine]
-        ax.scatter(xs, [r["idf1"] for r in mine], s=28, zorder=3,
-                   label=f"seed {seed}" + (" (held out)" if seed in held_out else ""))
+        # 10 colours, then the same colours with another marker: more than 10 seeds stay distinguishable
+        ax.scatter(xs, [r["idf1"] for r in mine], s=28, zorder=3, color=plt.cm.tab10(k % 10),
+                   marker="o^sD"[(k // 10) % 4], label=f"seed {seed}" + (" (held out)" if seed in held_out else ""))
         for x, r in zip(xs, mine):
             if r["idf1_loose"] is not None and (r["idf1"] < args.target or r["switches"]):  # loss from box extent
                 ax.plot([x, x], [r["idf1"], r["idf1_loose"]], color="grey", linewidth=0.8, zorder=2)
