@@ -518,3 +518,14 @@ def test_occluded_dancer_reidentified_beside_a_dancer_without_a_detection():
     alike = first.copy()
     alike[100:300, 200:260] = (40, 50, 200)  # the tracked dancer dressed like the hidden one: it may be either
     assert not reidentified(beside, start=alike)
+
+
+def test_hiding_dancer_names_the_dancer_in_front():
+    """A dancer whose body core lies mostly inside that of a dancer standing in front (box bottom lower in the
+    image) starts hidden behind it; the one in front, or a dancer beside, does not."""
+    frame = np.random.default_rng(3).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    behind, front = (300.0, 100.0, 60.0, 200.0), (280.0, 180.0, 120.0, 260.0)
+    tracker = MultiDancerTracker(frame, [behind, front])
+    assert tracker.hiding_dancer(0) == 1 and tracker.hiding_dancer(1) is None
+    beside = MultiDancerTracker(frame, [behind, (420.0, 180.0, 120.0, 260.0)])
+    assert beside.hiding_dancer(0) is None

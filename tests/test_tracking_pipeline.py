@@ -10,7 +10,7 @@ from hdvr.io.keypoints2d import load_keypoints2d
 from hdvr.tracking.boxes import read_mot
 from hdvr.tracking.evaluation import evaluate_tracking
 from hdvr.tracking.pipeline import fill_between_detections
-from hdvr.tracking.testclips import default_crossing_specs, render_clip
+from hdvr.tracking.testclips import FigureSpec, default_crossing_specs, render_clip
 from hdvr.video import VideoReader
 
 
@@ -29,7 +29,9 @@ def test_track_boxes_only(clip, tmp_path, capsys):
     path, truth = clip
     out = tmp_path / "out"
     assert main(["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "none"]) == 0
-    assert "tracked 2 dancers over 60 frames" in capsys.readouterr().out
+    captured = capsys.readouterr()
+    assert "tracked 2 dancers over 60 frames" in captured.out
+    assert "hidden" not in captured.err  # the figures start apart
     mot = read_mot(out / "tracks.mot.txt", num_frames=60)
     assert mot.shape == (60, 2, 4)
     assert evaluate_tracking(truth.boxes, mot).idf1 > 0.9
@@ -39,6 +41,18 @@ def test_track_boxes_only(clip, tmp_path, capsys):
     assert kp.keypoints.shape == (60, 25, 3) and kp.image_size == (640, 480)
     overlay = VideoReader(out / "overlay.mp4")
     assert overlay.info.size == (640, 480) and sum(1 for _ in overlay) == 60
+
+
+def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
+    """A start box mostly behind another dancer's gets a one-line warning naming both dancers."""
+    still = FigureSpec((160.0, 130.0), (0.0, 0.0), 150.0, ((40, 40, 210), (40, 200, 230)), depth=1.0)
+    walker = FigureSpec((166.0, 118.0), (-2.5, 0.0), 130.0, ((200, 60, 40), (230, 200, 40)), depth=0.0)
+    path = tmp_path / "stack.mp4"
+    truth = render_clip(path, frames=10, size=(320, 240), specs=[still, walker])
+    assert main(["track", str(path), "--out", str(tmp_path / "out"), "--boxes", _boxes_arg(truth),
+                 "--detector", "none", "--no-overlay"]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "hidden" in line]
+    assert len(warnings) == 1 and warnings[0].startswith("hdvr: warning: dancer 1 starts mostly hidden behind dancer 0")
 
 
 def test_track_with_openpose_json(clip, tmp_path):

@@ -201,9 +201,15 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 tracker = MultiDancerTracker(frame, [], config)
             else:
                 tracker.step(frame, detections=[p.box for p in people] if run_detector else None)
-            for s in starts:
-                if s.frame == t:
-                    tracker.add_dancer(frame, s.box, [p.box for p in people] if run_detector else None)
+            new_ids = [tracker.add_dancer(frame, s.box, [p.box for p in people] if run_detector else None)
+                       for s in starts if s.frame == t]
+            for i in new_ids:
+                front = tracker.hiding_dancer(i)
+                if front is not None:
+                    print(f"hdvr: warning: dancer {i} starts mostly hidden behind dancer {front} (frame {t}): its "
+                          f"colours are learned from what shows in its box and it may be taken for dancer {front}; "
+                          f"check it in the overlay video, or start the video where every dancer is seen clearly",
+                          file=sys.stderr)
             result = _pad(tracker.result(), n)
             stage["track"] += time.perf_counter() - tic
             kp = np.full((n, 25, 3), np.nan, np.float32)
