@@ -117,12 +117,13 @@ class ReportedExtent:
             return True
         return any(o is not d and o.status == TRACKED and self._straight_in_front(o, d) for o in self.dancers)
 
-    def _straight_in_front(self, f: DancerTrack, d: DancerTrack) -> bool:
+    def _straight_in_front(self, f: DancerTrack, d: DancerTrack, overlap: float | None = None) -> bool:
         """Whether dancer ``f`` stands straight in front of dancer ``d``: body cores overlapping more than
-        ``pose_stack_overlap`` (intersection / smaller) and ``f``'s box bottom at least ``pixel_front`` x ``d``'s
-        height lower in the image."""
+        ``overlap`` (intersection / smaller; default ``pose_stack_overlap``) and ``f``'s box bottom at least
+        ``pixel_front`` x ``d``'s height lower in the image."""
         c = self.config
-        return (self._bodies_overlap(f.box, d.box) > c.pose_stack_overlap
+        overlap = c.pose_stack_overlap if overlap is None else overlap
+        return (self._bodies_overlap(f.box, d.box) > overlap
                 and f.box[1] + f.box[3] > d.box[1] + d.box[3] + c.pixel_front * d.box[3])
 
     def _pixel_reach(self, d: DancerTrack, fg: np.ndarray) -> tuple[float, float]:

@@ -98,10 +98,10 @@ class MultiTrackerConfig:
     reid_beside_held: bool = True  # a detection that overlaps tracked dancers may re-identify an occluded dancer
     # when each of them holds a detection of its own (:meth:`_reidentify`)
     reid_held_overlap: float = 0.5  # ... whose body core this one overlaps less than this (intersection / smaller)
-    hidden_start_overlap: float = 0.5  # a dancer whose body core is this much (intersection / smaller) inside the
-    # core of a dancer in front when it starts is started hidden (:meth:`hiding_dancer`; the CLI warns)
     reid_beside_unheld: bool = True  # ... or tracked dancers without a detection whose memory it matches worse
     reid_unheld_height: float = 1.3  # ... if its height is within this factor of the occluded dancer's box
+    hidden_start_overlap: float = 0.5  # a dancer whose body core is this much (intersection / smaller) inside the
+    # core of a dancer in front when it starts is started hidden (:meth:`hiding_dancer`; the CLI warns)
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
@@ -240,16 +240,13 @@ class MultiDancerTracker(ReportedExtent):
         return d.dancer_id
 
     def hiding_dancer(self, i: int) -> int | None:
-        """The id of the dancer standing in front of dancer ``i`` (box bottom at least ``pixel_front`` x ``i``'s
-        height lower in the image) whose body core covers more than ``hidden_start_overlap`` of ``i``'s, or None.
+        """The id of the dancer standing in front of dancer ``i`` (:meth:`_straight_in_front`) whose body core
+        covers more than ``hidden_start_overlap`` of ``i``'s (intersection / smaller), or None.
         Asked right after :meth:`add_dancer`: a dancer started there has its colours learned from the one in front
         (Algorithm 1* stores the histogram of the start box), and may be mistaken for it later."""
-        c, d = self.config, self.dancers[i]
+        d = self.dancers[i]
         for o in self.dancers:
-            if o is d or o.status == OUT:
-                continue
-            if (self._bodies_overlap(o.box, d.box) > c.hidden_start_overlap
-                    and o.box[1] + o.box[3] > d.box[1] + d.box[3] + c.pixel_front * d.box[3]):
+            if o is not d and o.status != OUT and self._straight_in_front(o, d, self.config.hidden_start_overlap):
                 return o.dancer_id
         return None
 
