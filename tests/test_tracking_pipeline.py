@@ -32,6 +32,7 @@ def test_track_boxes_only(clip, tmp_path, capsys):
     captured = capsys.readouterr()
     assert "tracked 2 dancers over 60 frames" in captured.out
     assert "hidden" not in captured.err  # the figures start apart
+    assert json.loads((out / "tracks.json").read_text())["hidden_starts"] == []
     mot = read_mot(out / "tracks.mot.txt", num_frames=60)
     assert mot.shape == (60, 2, 4)
     assert evaluate_tracking(truth.boxes, mot).idf1 > 0.9
@@ -53,6 +54,8 @@ def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
                  "--detector", "none", "--no-overlay"]) == 0
     warnings = [line for line in capsys.readouterr().err.splitlines() if "hidden" in line]
     assert len(warnings) == 1 and warnings[0].startswith("hdvr: warning: dancer 1 starts mostly hidden behind dancer 0")
+    doc = json.loads((tmp_path / "out" / "tracks.json").read_text())
+    assert doc["hidden_starts"] == [{"frame": 0, "dancer": 1, "behind": 0}]
 
 
 def test_track_with_openpose_json(clip, tmp_path):

@@ -51,6 +51,8 @@ class TrackRun:
     seconds: float = 0.0  # wall clock
     cpu_seconds: float = 0.0  # CPU time of this process (all threads) during the run
     stage_seconds: dict = field(default_factory=dict)  # decode, detect, track, select, overlay
+    hidden_starts: list = field(default_factory=list)  # (frame, dancer, dancer in front) per dancer whose start box
+    # lies mostly behind another dancer's (MultiDancerTracker.hiding_dancer): its colours are not its own
 
 
 @dataclass(frozen=True)
@@ -181,6 +183,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     last_kp[..., 2] = 0
     last_kp_boxes = np.array(boxes, float)
     tracker = None
+    hidden_starts = []
     failure: BaseException | None = None
     total = min(info.num_frames or 0, max_frames or 10 ** 12) or None
     frames = iter(reader)
@@ -206,6 +209,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             for i in new_ids:
                 front = tracker.hiding_dancer(i)
                 if front is not None:
+                    hidden_starts.append((t, i, front))
                     print(f"hdvr: warning: dancer {i} starts mostly hidden behind dancer {front} (frame {t}): its "
                           f"colours are learned from what shows in its box and it may be taken for dancer {front}; "
                           f"check it in the overlay video, or start the video where every dancer is seen clearly",
@@ -257,14 +261,15 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             raise failure
         raise HDVRError(f"video {video} has no decodable frame")
     run = TrackRun(np.array(all_boxes, float), all_status, np.array(all_conf, float), np.array(all_kp, np.float32),
-                   np.array(detected, bool), info.fps, info.size)
+                   np.array(detected, bool), info.fps, info.size, hidden_starts=hidden_starts)
     run.keypoints = fill_between_detections(run.keypoints, run.detected, detect_every)
     if writer is not None:
         writer.close()  # keeps the frames finished so far
         run.outputs.append(writer.path)
     if write:
-        run.outputs += write_outputs(out, run, extra={"source": str(video), "detect_every": detect_every,
-                                                      "detector": getattr(detector, "name", None)})
+        run.outputs += write_outputs(out, run, extra={
+            "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
+            "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts]})
     run.seconds = time.perf_counter() - started
     run.cpu_seconds = time.process_time() - cpu_started
     run.stage_seconds = stage
