@@ -529,3 +529,42 @@ def test_hiding_dancer_names_the_dancer_in_front():
     assert tracker.hiding_dancer(0) == 1 and tracker.hiding_dancer(1) is None
     beside = MultiDancerTracker(frame, [behind, (420.0, 180.0, 120.0, 260.0)])
     assert beside.hiding_dancer(0) is None
+
+
+def _stack_specs():
+    """A still figure in front and one starting mostly hidden straight behind it, walking out to the left."""
+    front = FigureSpec((160.0, 130.0), (0.0, 0.0), 150.0, ((40, 40, 210), (40, 200, 230)), depth=0.0)
+    hidden = FigureSpec((166.0, 118.0), (-2.5, 0.0), 130.0, ((200, 60, 40), (230, 200, 40)), depth=1.0)
+    return [front, hidden]
+
+
+def test_dancer_started_hidden_takes_the_detection_that_comes_out_from_behind(tmp_path):
+    """A dancer whose start box shows only the dancer in front has that dancer's colours as memory: it waits
+    (``hidden_behind``) and takes the first detection clear of every other dancer, near it, that does not look
+    like the dancer in front, learning its colours there. Without it, its box stays on the dancer in front."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=60, size=(320, 240), specs=_stack_specs())
+
+    def detections(t):  # the detector sees the walker only once its body is clear of the figure in front
+        if t % 3:
+            return None
+        front, walker = truth.boxes[t]
+        core = lambda b: (b[0] + b[2] / 2 - 0.15 * b[3], b[0] + b[2] / 2 + 0.15 * b[3])  # noqa: E731
+        clear = core(walker)[1] < core(front)[0] or core(walker)[0] > core(front)[1]
+        return [tuple(front)] + ([tuple(walker)] if clear else [])
+
+    scores, waiting = {}, {}
+    for on in (True, False):
+        tracker, boxes = None, []
+        for t, frame in enumerate(VideoReader(tmp_path / "clip.mp4")):
+            if tracker is None:
+                tracker = MultiDancerTracker(frame, truth.boxes[0], MultiTrackerConfig(emerge_hidden_starts=on))
+                assert tracker.dancers[1].hidden_behind == 0 and tracker.dancers[0].hidden_behind is None
+                result = tracker.result()
+            else:
+                result = tracker.step(frame, detections(t))
+            boxes.append(result.boxes)
+        scores[on] = evaluate_tracking(truth.boxes, np.array(boxes))
+        waiting[on] = tracker.dancers[1].hidden_behind
+    assert waiting[True] is None and waiting[False] == 0
+    assert scores[True].idf1 >= 0.85 and scores[True].id_switches == 0, scores[True]
+    assert scores[True].idf1 > scores[False].idf1 + 0.2, scores

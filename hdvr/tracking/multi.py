@@ -100,6 +100,10 @@ class MultiTrackerConfig:
     reid_held_overlap: float = 0.5  # ... whose body core this one overlaps less than this (intersection / smaller)
     reid_beside_unheld: bool = True  # ... or tracked dancers without a detection whose memory it matches worse
     reid_unheld_height: float = 1.3  # ... if its height is within this factor of the occluded dancer's box
+    emerge_hidden_starts: bool = True  # a dancer started mostly hidden (``hidden_start_overlap``) takes the first
+    # detection that comes out clear of every other dancer, that no other dancer takes and that does not look like
+    # the dancer hiding it (:meth:`MultiDancerTracker._emerge`)
+    emerge_distance: float = 1.0  # x the box height: how far from the dancer's box centre that detection may be
     hidden_start_overlap: float = 0.5  # a dancer whose body core is this much (intersection / smaller) inside the
     # core of a dancer in front when it starts is started hidden (:meth:`hiding_dancer`; the CLI warns)
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
@@ -236,19 +240,24 @@ class MultiDancerTracker(ReportedExtent):
             d.size_ratio = np.clip(np.array(b[2:]) / detected, 1 / self.config.max_size_ratio,
                                    self.config.max_size_ratio)
         d.centers.append(d.body_center)
+        for o in self.dancers:  # the new dancer behind one, or one started in this frame behind the new one
+            if o.status == OUT:
+                continue
+            if d.hidden_behind is None and self._straight_in_front(o, d, self.config.hidden_start_overlap):
+                d.hidden_behind = o.dancer_id
+            if o.hidden_behind is None and o.start_frame == self.frame_index and \
+                    self._straight_in_front(d, o, self.config.hidden_start_overlap):
+                o.hidden_behind = d.dancer_id
         self.dancers.append(d)
         return d.dancer_id
 
     def hiding_dancer(self, i: int) -> int | None:
-        """The id of the dancer standing in front of dancer ``i`` (:meth:`_straight_in_front`) whose body core
-        covers more than ``hidden_start_overlap`` of ``i``'s (intersection / smaller), or None.
-        Asked right after :meth:`add_dancer`: a dancer started there has its colours learned from the one in front
-        (Algorithm 1* stores the histogram of the start box), and may be mistaken for it later."""
-        d = self.dancers[i]
-        for o in self.dancers:
-            if o is not d and o.status != OUT and self._straight_in_front(o, d, self.config.hidden_start_overlap):
-                return o.dancer_id
-        return None
+        """The id of the dancer that dancer ``i`` started mostly hidden behind (standing in front of it,
+        :meth:`_straight_in_front`, its body core covering more than ``hidden_start_overlap`` of ``i``'s), while
+        ``i`` still waits to come out from behind it (``hidden_behind``, :meth:`_emerge`); else None. Asked right
+        after :meth:`add_dancer`: Algorithm 1* stores the histogram of the start box, which then shows the dancer
+        in front, and ``i`` may be taken for it."""
+        return self.dancers[i].hidden_behind
 
     def result(self) -> FrameResult:
         """Boxes of this frame, clipped to the frame (px); NaN for dancers out of the frame."""
@@ -413,6 +422,8 @@ class MultiDancerTracker(ReportedExtent):
             self._adapt_in_group(frame, group, detections)
         if detections is not None and c.group_scale:
             self._scale_groups(group, detections)
+        if detections and c.emerge_hidden_starts:
+            self._emerge(frame, detections)
         # 3-4. occluded dancers: predict; re-identify any that show clearly again; relocate from the predicted
         # end of the overlap on
         occluded = [d for d in self.dancers if d.status == OCCLUDED]
@@ -926,6 +937,45 @@ class MultiDancerTracker(ReportedExtent):
         d.centers = [d.body_center]
         d.clear_track = []
         d.stored_box, d.stored_frame = d.box, self.frame_index
+
+    def _emerge(self, frame, detections) -> None:
+        """Dancers that started mostly hidden (``hidden_behind``) take a detection that comes out from behind:
+        one that no other dancer takes (one assignment on :meth:`_fit_score` of the detections to the tracked
+        dancers not waiting so), whose centre lies within ``emerge_distance`` box heights of the dancer's box
+        centre, whose height is within ``max_height_change`` of the box's, and whose colours match the hiding
+        dancer's memory less than ``reid_similarity``. The dancer is tracked there, learns its colours from it
+        (replacing those of the dancer in front) and is no longer waiting. Nearest detection first."""
+        c = self.config
+        waiting = [d for d in self.dancers if d.hidden_behind is not None and d.status != OUT]
+        if not waiting:
+            return
+        dets = [tuple(float(v) for v in det) for det in detections]
+        holders = [o for o in self.dancers if o.status == TRACKED and o.hidden_behind is None]
+        taken = {k for _, k in self._fit_assignment([o.box for o in holders], dets)[1]} if holders else set()
+        for d in waiting:
+            front = self.dancers[d.hidden_behind]
+            centre = np.asarray(box_centre(d.box))
+            best, best_distance = None, c.emerge_distance * d.box[3]
+            for k, det in enumerate(dets):
+                if k in taken or not 1 / c.max_height_change <= det[3] / d.box[3] <= c.max_height_change \
+                        or any(self._bodies_overlap(det, o.box) > c.overlap_threshold for o in self.dancers
+                               if o is not d and o.status != OUT):
+                    continue
+                distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
+                if distance > best_distance:
+                    continue
+                hist = colour_histogram(frame, det)
+                if hist is None or histogram_similarity(hist, front.stored_histogram) >= c.reid_similarity:
+                    continue
+                best, best_distance = (k, hist), distance
+            if best is None:
+                continue
+            k, hist = best
+            taken.add(k)
+            if box_iou(d.box, dets[k]) < 0.5 or d.status != TRACKED:  # the box is elsewhere: move it there
+                self._take(d, dets[k], 1.0)
+                d.tracker.init(frame, self._core(d.box))
+            d.stored_histogram, d.hidden_behind = hist, None
 
     def _claimed(self, detections) -> set[int]:
         """Indices of the detections that tracked dancers take in one assignment (Hungarian on

@@ -211,9 +211,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 if front is not None:
                     hidden_starts.append((t, i, front))
                     print(f"hdvr: warning: dancer {i} starts mostly hidden behind dancer {front} (frame {t}): its "
-                          f"colours are learned from what shows in its box and it may be taken for dancer {front}; "
-                          f"check it in the overlay video, or start the video where every dancer is seen clearly",
-                          file=sys.stderr)
+                          f"colours are unknown until it comes out clear of the others, and it may be taken for "
+                          f"dancer {front}; check it in the overlay video, or start the video where every dancer is "
+                          f"seen clearly", file=sys.stderr)
             result = _pad(tracker.result(), n)
             stage["track"] += time.perf_counter() - tic
             kp = np.full((n, 25, 3), np.nan, np.float32)

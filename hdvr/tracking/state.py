@@ -43,6 +43,8 @@ class DancerTrack:
     adapted_at: int = -1  # last frame in which the box adapted to a detection while clear
     edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
     detected_at_edge: str | None = None  # "left" or "right": the last detection on the box was cut by that edge
+    hidden_behind: int | None = None  # id of the dancer it started mostly hidden behind: its stored colours are
+    # that dancer's until it comes out (:meth:`hdvr.tracking.multi.MultiDancerTracker._emerge`); then None
     group_reference: tuple[float, float] | None = None  # (height of its detection, of its box) px when its group's
     # scale was first measured (:meth:`hdvr.tracking.multi.MultiDancerTracker._scale_groups`); None while clear
 
