@@ -4,11 +4,13 @@ Reads the synthetic-clip tables that ``scripts/bench_track.py --sections synth``
 ``| seed | clip_XXXXX genre | dancers | threshold | IDF1 | MOTA | HOTA | ID switches | ...``) from the named sections
 of a markdown file (default docs/benchmarks.md) and draws one dot per clip: x = clip (genre and dancer count),
 y = IDF1, one colour per seed (past 10 seeds the colours repeat with another marker), a ring around clips with
-identity switches, the 0.9 target as a line. Where the table has the column "IDF1 / switches at IoU 0.4" (since
+identity switches, the 0.9 target as a line. ``--colour-by hidden`` colours the clips instead by whether a dancer
+starts hidden (the "starts hidden" column of the tables since session 14). Where the table has the column "IDF1 / switches at IoU 0.4" (since
 session 12), a clip below the target or with switches also gets a grey tick at that IDF1: how much of its loss is
 box extent rather than identity.
 
     python3 scripts/plot_track_bench.py [--markdown docs/benchmarks.md] [--out docs/img/tracking_synth_idf1.png]
+                                        [--sections HEADING ...] [--colour-by seed|hidden]
 """
 
 from __future__ import annotations
@@ -23,8 +25,11 @@ DEFAULT_SECTIONS = ("### Synthetic dancers, seeds 7-139 (session 13)",
 NUMBER = r"\s*(-?[\d.]+)\s*\|"
 # seed | clip_XXXXX genre | dancers | threshold | IDF1 | MOTA | HOTA | ID switches |
 ROW = re.compile(r"^\|\s*(\d+)\s*\|\s*(clip_\d+)\s+(\w+)\s*\|" + NUMBER * 6)
-# ... | IDF1 / switches at IoU 0.4 |: the last column of the tables since session 12 (absent before)
-LOOSE = re.compile(r"\|\s*([-\d.]+)\s*/\s*(\d+)\s*\|\s*$")
+# ... | IDF1 / switches at IoU 0.4 |: a column of the tables since session 12 (absent before), the only one with an
+# integer after the slash
+LOOSE = re.compile(r"\|\s*([-\d.]+)\s*/\s*(\d+)\s*\|")
+# ... | starts hidden |: the last column since session 14 (dancers whose start box lies mostly behind another's)
+HIDDEN = re.compile(r"\|\s*(\d+)\s*\|\s*$")
 
 
 def read_rows(text: str, heading: str) -> list[dict]:
@@ -37,10 +42,12 @@ def read_rows(text: str, heading: str) -> list[dict]:
     for line in text[start:end if end > 0 else None].splitlines():
         m = ROW.match(line)
         if m:
-            loose = LOOSE.search(line) if "at IoU 0.4" in header else None
+            loose = LOOSE.findall(line) if "at IoU 0.4" in header else None
+            hidden = HIDDEN.search(line) if "starts hidden" in header else None
             rows.append({"seed": int(m[1]), "clip": m[2], "genre": m[3], "dancers": int(m[4]),
                          "idf1": float(m[6]), "switches": int(float(m[9])),
-                         "idf1_loose": float(loose[1]) if loose else None})
+                         "idf1_loose": float(loose[-1][0]) if loose else None,
+                         "hidden": int(hidden[1]) if hidden else None})
         elif line.startswith("| seed |"):
             header = line
     if not rows:
@@ -55,6 +62,8 @@ def main(argv=None) -> int:
     parser.add_argument("--sections", nargs="*", default=list(DEFAULT_SECTIONS),
                         help="section headings (their start) to read")
     parser.add_argument("--target", type=float, default=0.9)
+    parser.add_argument("--colour-by", choices=("seed", "hidden"), default="seed",
+                        help="one colour per seed, or by whether a dancer starts hidden (tables since session 14)")
     parser.add_argument("--held-out", default="97,101,113,127,131,137,139,151,163,173",
                         help="seeds rendered after the tracker's rules were written (marked in the legend)")
     args = parser.parse_args(argv)
@@ -74,12 +83,23 @@ def main(argv=None) -> int:
     held_out = {int(v) for v in args.held_out.split(",") if v.strip()}
     fig, ax = plt.subplots(figsize=(10.5, 4.2))
     loose_labelled = False
+    if args.colour_by == "hidden" and any(r["hidden"] is None for r in rows):
+        raise SystemExit("plot_track_bench: error: --colour-by hidden needs tables with the 'starts hidden' column")
+    hidden_labelled = set()
     for k, seed in enumerate(seeds):
         mine = [r for r in rows if r["seed"] == seed]
-        xs = [clips.index((r["clip"], r["genre"], r["dancers"])) + (k - (len(seeds) - 1) / 2) * 0.09 for r in mine]
-        # 10 colours, then the same colours with another marker: more than 10 seeds stay distinguishable
-        ax.scatter(xs, [r["idf1"] for r in mine], s=28, zorder=3, color=plt.cm.tab10(k % 10),
-                   marker="o^sD"[(k // 10) % 4], label=f"seed {seed}" + (" (held out)" if seed in held_out else ""))
+        xs = [clips.index((r["clip"], r["genre"], r["dancers"])) + (k - (len(seeds) - 1) / 2) * (0.8 / len(seeds))
+              for r in mine]
+        if args.colour_by == "hidden":
+            for x, r in zip(xs, mine):
+                kind = "a dancer starts hidden" if r["hidden"] else "all dancers start visible"
+                ax.scatter([x], [r["idf1"]], s=22, zorder=3, color="tab:orange" if r["hidden"] else "tab:blue",
+                           marker="^" if r["hidden"] else "o", label=None if kind in hidden_labelled else kind)
+                hidden_labelled.add(kind)
+        else:  # 10 colours, then the same colours with another marker: more than 10 seeds stay distinguishable
+            ax.scatter(xs, [r["idf1"] for r in mine], s=28, zorder=3, color=plt.cm.tab10(k % 10),
+                       marker="o^sD"[(k // 10) % 4],
+                       label=f"seed {seed}" + (" (held out)" if seed in held_out else ""))
         for x, r in zip(xs, mine):
             if r["idf1_loose"] is not None and (r["idf1"] < args.target or r["switches"]):  # loss from box extent
                 ax.plot([x, x], [r["idf1"], r["idf1_loose"]], color="grey", linewidth=0.8, zorder=2)
