@@ -941,10 +941,12 @@ class MultiDancerTracker(ReportedExtent):
     def _emerge(self, frame, detections) -> None:
         """Dancers that started mostly hidden (``hidden_behind``) take a detection that comes out from behind:
         one that no other dancer takes (one assignment on :meth:`_fit_score` of the detections to the tracked
-        dancers not waiting so), whose centre lies within ``emerge_distance`` box heights of the dancer's box
-        centre, whose height is within ``max_height_change`` of the box's, and whose colours match the hiding
-        dancer's memory less than ``reid_similarity``. The dancer is tracked there, learns its colours from it
-        (replacing those of the dancer in front) and is no longer waiting. Nearest detection first."""
+        dancers not waiting so), whose body core overlaps no other dancer's (``overlap_threshold``), whose centre
+        lies within ``emerge_distance`` box heights of the dancer's box centre, whose height is within
+        ``max_height_change`` of the box's, and whose colours match the hiding dancer's memory less than
+        ``reid_similarity``; the nearest such detection. The dancer's box moves there (unless it already overlaps
+        it by IoU 0.5, or more), and it learns its colours from it, replacing those of the dancer in front: it no
+        longer waits."""
         c = self.config
         waiting = [d for d in self.dancers if d.hidden_behind is not None and d.status != OUT]
         if not waiting:
