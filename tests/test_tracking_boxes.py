@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from hdvr.errors import HDVRError
-from hdvr.tracking.boxes import (check_boxes_in_frame, parse_boxes, read_boxes_file, read_mot, write_mot,
-                                 write_tracks_json)
+from hdvr.tracking.boxes import (check_boxes_in_frame, parse_boxes, read_boxes_file, read_mot, read_start_boxes,
+                                 write_mot, write_tracks_json)
 
 
 def test_parse_boxes():
@@ -46,3 +46,23 @@ def test_boxes_outside_frame():
     check_boxes_in_frame([(0, 0, 10, 10)], (100, 100))
     with pytest.raises(HDVRError, match="outside"):
         check_boxes_in_frame([(95, 95, 10, 10)], (100, 100))
+
+
+def test_start_boxes_with_frames(tmp_path):
+    """Start frames (0-based) per dancer, sorted by frame: MOT text starts each id at its first row, JSON 'starts'
+    names them; the first-frame formats start everyone at frame 0; bad entries get a one-line error."""
+    (tmp_path / "t.txt").write_text("1,1,1,2,3,4,1,-1,-1,-1\n2,1,2,2,3,4,1,-1,-1,-1\n8,2,9,9,9,9,1,-1,-1,-1\n")
+    assert read_start_boxes(tmp_path / "t.txt") == [(0, (1, 2, 3, 4)), (7, (9, 9, 9, 9))]
+    (tmp_path / "s.json").write_text(json.dumps({"starts": [{"frame": 40, "box": [5, 6, 7, 8]},
+                                                           {"frame": 0, "box": [1, 2, 3, 4]}]}))
+    assert read_start_boxes(tmp_path / "s.json") == [(0, (1, 2, 3, 4)), (40, (5, 6, 7, 8))]
+    (tmp_path / "b.json").write_text(json.dumps([[1, 2, 3, 4], [5, 6, 7, 8]]))
+    assert read_start_boxes(tmp_path / "b.json") == [(0, (1, 2, 3, 4)), (0, (5, 6, 7, 8))]
+    for bad, message in (({"starts": [{"frame": -1, "box": [1, 2, 3, 4]}]}, "whole number"),
+                         ({"starts": [{"frame": 2.5, "box": [1, 2, 3, 4]}]}, "whole number"),
+                         ({"starts": [{"frame": 2}]}, "list of"),
+                         ({"starts": [{"frame": 2, "box": [1, 2, 0, 4]}]}, "positive"),
+                         ({"starts": []}, "no box")):
+        (tmp_path / "bad.json").write_text(json.dumps(bad))
+        with pytest.raises(HDVRError, match=message):
+            read_start_boxes(tmp_path / "bad.json")

@@ -7,7 +7,7 @@ import pytest
 
 from hdvr.cli import main
 from hdvr.io.keypoints2d import load_keypoints2d
-from hdvr.tracking.boxes import read_mot
+from hdvr.tracking.boxes import read_mot, write_mot
 from hdvr.tracking.evaluation import evaluate_tracking
 from hdvr.tracking.pipeline import fill_between_detections
 from hdvr.tracking.testclips import FigureSpec, default_crossing_specs, render_clip
@@ -56,6 +56,34 @@ def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
     assert len(warnings) == 1 and warnings[0].startswith("hdvr: warning: dancer 1 starts mostly hidden behind dancer 0")
     doc = json.loads((tmp_path / "out" / "tracks.json").read_text())
     assert doc["hidden_starts"] == [{"frame": 0, "dancer": 1, "behind": 0}]
+
+
+def test_track_starts_a_hidden_dancer_later_from_a_boxes_file(tmp_path, capsys):
+    """A dancer hidden in the first frame is given its box where it is seen clearly (MOT text: its id's first row):
+    it is absent before, tracked from there, and nothing warns; a start after the video's end is refused."""
+    still = FigureSpec((160.0, 130.0), (0.0, 0.0), 150.0, ((40, 40, 210), (40, 200, 230)), depth=1.0)
+    walker = FigureSpec((166.0, 118.0), (-2.5, 0.0), 130.0, ((200, 60, 40), (230, 200, 40)), depth=0.0)
+    path = tmp_path / "stack.mp4"
+    truth = render_clip(path, frames=40, size=(320, 240), specs=[still, walker])
+    late = 25  # the walker's body is clear of the still figure by then
+    boxes = np.full_like(truth.boxes, np.nan)
+    boxes[0, 0], boxes[late, 1] = truth.boxes[0, 0], truth.boxes[late, 1]
+    write_mot(tmp_path / "starts.txt", boxes)
+    out = tmp_path / "out"
+    assert main(["track", str(path), "--out", str(out), "--boxes-file", str(tmp_path / "starts.txt"),
+                 "--detector", "none", "--no-overlay"]) == 0
+    assert "hidden" not in capsys.readouterr().err
+    doc = json.loads((out / "tracks.json").read_text())
+    status = doc["dancers"][1]["status"]
+    assert set(status[:late]) == {"absent"} and status[late] == "tracked"
+    tracks = read_mot(out / "tracks.mot.txt", num_frames=40)
+    assert evaluate_tracking(truth.boxes[late:], tracks[late:]).idf1 > 0.9
+    boxes[late, 1] = np.nan
+    boxes[39, 1] = truth.boxes[39, 1]
+    write_mot(tmp_path / "starts.txt", boxes)
+    assert main(["track", str(path), "--out", str(out), "--boxes-file", str(tmp_path / "starts.txt"),
+                 "--detector", "none", "--no-overlay", "--max-frames", "30"]) == 2
+    assert "dancer 1 starts at frame 39, after the last frame tracked (29)" in capsys.readouterr().err
 
 
 def test_track_with_openpose_json(clip, tmp_path):

@@ -16,7 +16,10 @@ def register(subparsers) -> None:
     p.add_argument("--out", required=True, help="output folder")
     init = p.add_mutually_exclusive_group(required=True)
     init.add_argument("--boxes", help="dancers' boxes in the first frame: 'x,y,w,h;x,y,w,h' (pixels, top-left)")
-    init.add_argument("--boxes-file", help="file with the first frame's boxes (JSON list, MOT text or x,y,w,h lines)")
+    init.add_argument("--boxes-file", help="file with the dancers' start boxes: a JSON list or x,y,w,h lines (first "
+                                           "frame), MOT text (each id from its first row) or JSON {\"starts\": "
+                                           "[{\"frame\": F, \"box\": [x, y, w, h]}, ...]} (0-based frames): a "
+                                           "dancer hidden in the first frame can start where it is seen clearly")
     init.add_argument("--dancers", type=int, help="find this many dancers automatically (the most persistent "
                                                    "people detected in the first frames)")
     p.add_argument("--detector", default="yolo11n",
@@ -44,13 +47,15 @@ def make_detector(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    from hdvr.tracking.boxes import parse_boxes, read_boxes_file
-    from hdvr.tracking.pipeline import track_video, tracked_fraction
+    from hdvr.tracking.boxes import parse_boxes, read_start_boxes
+    from hdvr.tracking.pipeline import DancerStart, track_video, tracked_fraction
 
-    boxes = parse_boxes(args.boxes) if args.boxes else read_boxes_file(args.boxes_file) if args.boxes_file else None
+    boxes = parse_boxes(args.boxes) if args.boxes else None
+    starts = [DancerStart(f, b) for f, b in read_start_boxes(args.boxes_file)] if args.boxes_file else None
     detector = make_detector(args)
     result = track_video(args.video, args.out, detector=detector, boxes=boxes, num_dancers=args.dancers,
-                         detect_every=args.detect_every, overlay=not args.no_overlay, max_frames=args.max_frames)
+                         detect_every=args.detect_every, overlay=not args.no_overlay, max_frames=args.max_frames,
+                         starts=starts)
     frames = result.boxes.shape[0]
     seen = tracked_fraction(result)
     pose_found = (result.keypoints[..., 2] > 0).any(axis=2).mean(axis=0)

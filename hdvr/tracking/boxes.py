@@ -62,6 +62,50 @@ def read_boxes_file(path: str | os.PathLike) -> list[tuple[float, float, float, 
     return parse_boxes(";".join(rows))
 
 
+def read_start_boxes(path: str | os.PathLike) -> list[tuple[int, tuple[float, float, float, float]]]:
+    """Each dancer's start frame (0-based) and box (x, y, w, h px) from a file, sorted by start frame (the order
+    in which ``hdvr track`` numbers the dancers; equal frames keep the file's order). MOT text: each id starts at
+    its first row (ids in order); JSON ``{"starts": [{"frame": F, "box": [x, y, w, h]}, ...]}``; the other
+    formats of :func:`read_boxes_file`: every dancer at frame 0. A dancer hidden behind another in the first
+    frame can so start later, where it is seen clearly."""
+    p = Path(path)
+    if not p.is_file():
+        raise HDVRError(f"boxes file not found: {p}")
+    text = p.read_text(encoding="utf-8", errors="replace")
+    starts = None
+    if text.lstrip().startswith("{"):
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError:
+            raise HDVRError(f"corrupt JSON in boxes file {p}") from None
+        if isinstance(doc, dict) and "starts" in doc:
+            items = doc["starts"]
+            if not isinstance(items, list) or not all(isinstance(i, dict) and "box" in i for i in items):
+                raise HDVRError(f"boxes file {p}: expected 'starts' to be a list of {{\"frame\": F, \"box\": "
+                                f"[x, y, w, h]}}")
+            starts = []
+            for item in items:
+                frame = item.get("frame", 0)
+                if not isinstance(frame, int) or isinstance(frame, bool) or frame < 0:
+                    raise HDVRError(f"boxes file {p}: start frame {frame!r} is not a whole number >= 0")
+                box = item["box"]
+                if not isinstance(box, list):
+                    raise HDVRError(f"boxes file {p}: box {box!r} is not a list [x, y, w, h]")
+                starts.append((frame, parse_boxes(",".join(str(v) for v in box))[0]))
+    elif not text.lstrip().startswith("["):
+        rows = [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
+        if rows and len(rows[0].split(",")) >= 6:  # MOT text
+            mot = read_mot(p)
+            seen = np.isfinite(mot).all(axis=2)  # (T, N)
+            starts = [(int(np.argmax(seen[:, i])), tuple(float(v) for v in mot[int(np.argmax(seen[:, i])), i]))
+                      for i in range(mot.shape[1]) if seen[:, i].any()]
+    if starts is None:
+        starts = [(0, b) for b in read_boxes_file(p)]
+    if not starts:
+        raise HDVRError(f"boxes file {p} has no box")
+    return sorted(starts, key=lambda s: s[0])
+
+
 def check_boxes_in_frame(boxes, size: tuple[int, int]) -> None:
     """Raise :class:`HDVRError` for a box that lies (mostly) outside a frame of ``size`` = (w, h)."""
     w, h = size

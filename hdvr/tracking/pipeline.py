@@ -147,8 +147,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
 
     ``boxes``: initial (x, y, w, h) px boxes in the first frame, or None to find ``num_dancers`` people with the
     detector in the first ``init_seconds`` of the video (each starts where it is first seen); ``starts`` gives the
-    start frames and boxes directly instead. ``detect_every``: run the detector on every k-th frame only
-    (keypoints in between are interpolated). ``detector`` None: boxes only, no keypoints.
+    start frames and boxes directly instead (dancers are numbered in the order they start). ``detect_every``: run
+    the detector on every k-th frame only (keypoints in between are interpolated). ``detector`` None: boxes only,
+    no keypoints.
     """
     started = time.perf_counter()
     cpu_started = time.process_time()
@@ -157,7 +158,15 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     reader = VideoReader(video)
     info = reader.info
     if starts is not None:
-        pass
+        starts = sorted(starts, key=lambda s: s.frame)  # dancers are numbered in the order they start
+        last = info.num_frames - 1 if info.num_frames else None
+        if max_frames:
+            last = max_frames - 1 if last is None else min(last, max_frames - 1)
+        for i, s in enumerate(starts):
+            if s.frame < 0:
+                raise HDVRError(f"dancer {i} starts at frame {s.frame}: frames are counted from 0")
+            if last is not None and s.frame > last:
+                raise HDVRError(f"dancer {i} starts at frame {s.frame}, after the last frame tracked ({last})")
     elif boxes is None:
         if detector is None:
             raise HDVRError("give the dancers' boxes (--boxes) or a detector to find them (--dancers N)")
@@ -212,8 +221,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                     hidden_starts.append((t, i, front))
                     print(f"hdvr: warning: dancer {i} starts mostly hidden behind dancer {front} (frame {t}): its "
                           f"colours are unknown until it comes out clear of the others, and it may be taken for "
-                          f"dancer {front}; check it in the overlay video, or start the video where every dancer is "
-                          f"seen clearly", file=sys.stderr)
+                          f"dancer {front}; check it in the overlay video, or give it a start box in a later frame "
+                          f"where it is seen clearly (--boxes-file with start frames)", file=sys.stderr)
             result = _pad(tracker.result(), n)
             stage["track"] += time.perf_counter() - tic
             kp = np.full((n, 25, 3), np.nan, np.float32)
