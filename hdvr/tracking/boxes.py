@@ -38,28 +38,40 @@ def parse_boxes(text: str) -> list[tuple[float, float, float, float]]:
     return boxes
 
 
-def read_boxes_file(path: str | os.PathLike) -> list[tuple[float, float, float, float]]:
-    """Initial boxes from a file: JSON (``[[x, y, w, h], ...]`` or ``{"boxes": [...]}``), MOT text (the boxes of
-    the first frame, ordered by id) or plain ``x,y,w,h`` lines."""
+def _read_box_file(path: str | os.PathLike) -> tuple[Path, str, object]:
+    """A boxes file read once: (path, kind, content), kind ``"json"`` with the decoded document, ``"mot"`` with the
+    MOT tracks (:func:`read_mot`) or ``"lines"`` with the non-comment lines."""
     p = Path(path)
     if not p.is_file():
         raise HDVRError(f"boxes file not found: {p}")
     text = p.read_text(encoding="utf-8", errors="replace")
     if text.lstrip().startswith(("[", "{")):
         try:
-            doc = json.loads(text)
+            return p, "json", json.loads(text)
         except json.JSONDecodeError:
             raise HDVRError(f"corrupt JSON in boxes file {p}") from None
-        items = doc.get("boxes", doc.get("initial_boxes")) if isinstance(doc, dict) else doc
+    rows = [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
+    if rows and len(rows[0].split(",")) >= 6:  # MOT text
+        return p, "mot", read_mot(p)
+    return p, "lines", rows
+
+
+def _first_frame_boxes(p: Path, kind: str, content) -> list[tuple[float, float, float, float]]:
+    """The first frame's boxes of a file read by :func:`_read_box_file` (MOT text: ordered by id)."""
+    if kind == "json":
+        items = content.get("boxes", content.get("initial_boxes")) if isinstance(content, dict) else content
         if not isinstance(items, list):
             raise HDVRError(f"boxes file {p}: expected a list of [x, y, w, h] under 'boxes'")
         return parse_boxes(";".join(",".join(str(v) for v in b) for b in items))
-    rows = [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
-    if rows and len(rows[0].split(",")) >= 6:  # MOT text
-        mot = read_mot(p)
-        first = mot[0]
-        return [tuple(b) for b in first if np.isfinite(b).all()]
-    return parse_boxes(";".join(rows))
+    if kind == "mot":
+        return [tuple(b) for b in content[0] if np.isfinite(b).all()]
+    return parse_boxes(";".join(content))
+
+
+def read_boxes_file(path: str | os.PathLike) -> list[tuple[float, float, float, float]]:
+    """Initial boxes from a file: JSON (``[[x, y, w, h], ...]`` or ``{"boxes": [...]}``), MOT text (the boxes of
+    the first frame, ordered by id) or plain ``x,y,w,h`` lines."""
+    return _first_frame_boxes(*_read_box_file(path))
 
 
 def read_start_boxes(path: str | os.PathLike) -> list[tuple[int, tuple[float, float, float, float]]]:
@@ -68,39 +80,28 @@ def read_start_boxes(path: str | os.PathLike) -> list[tuple[int, tuple[float, fl
     its first row (ids in order); JSON ``{"starts": [{"frame": F, "box": [x, y, w, h]}, ...]}``; the other
     formats of :func:`read_boxes_file`: every dancer at frame 0. A dancer hidden behind another in the first
     frame can so start later, where it is seen clearly."""
-    p = Path(path)
-    if not p.is_file():
-        raise HDVRError(f"boxes file not found: {p}")
-    text = p.read_text(encoding="utf-8", errors="replace")
-    starts = None
-    if text.lstrip().startswith("{"):
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError:
-            raise HDVRError(f"corrupt JSON in boxes file {p}") from None
-        if isinstance(doc, dict) and "starts" in doc:
-            items = doc["starts"]
-            if not isinstance(items, list) or not all(isinstance(i, dict) and "box" in i for i in items):
-                raise HDVRError(f"boxes file {p}: expected 'starts' to be a list of {{\"frame\": F, \"box\": "
-                                f"[x, y, w, h]}}")
-            starts = []
-            for item in items:
-                frame = item.get("frame", 0)
-                if not isinstance(frame, int) or isinstance(frame, bool) or frame < 0:
-                    raise HDVRError(f"boxes file {p}: start frame {frame!r} is not a whole number >= 0")
-                box = item["box"]
-                if not isinstance(box, list):
-                    raise HDVRError(f"boxes file {p}: box {box!r} is not a list [x, y, w, h]")
-                starts.append((frame, parse_boxes(",".join(str(v) for v in box))[0]))
-    elif not text.lstrip().startswith("["):
-        rows = [line.strip() for line in text.splitlines() if line.strip() and not line.startswith("#")]
-        if rows and len(rows[0].split(",")) >= 6:  # MOT text
-            mot = read_mot(p)
-            seen = np.isfinite(mot).all(axis=2)  # (T, N)
-            starts = [(int(np.argmax(seen[:, i])), tuple(float(v) for v in mot[int(np.argmax(seen[:, i])), i]))
-                      for i in range(mot.shape[1]) if seen[:, i].any()]
-    if starts is None:
-        starts = [(0, b) for b in read_boxes_file(p)]
+    p, kind, content = _read_box_file(path)
+    if kind == "json" and isinstance(content, dict) and "starts" in content:
+        items = content["starts"]
+        if not isinstance(items, list) or not all(isinstance(i, dict) and "box" in i for i in items):
+            raise HDVRError(f"boxes file {p}: expected 'starts' to be a list of {{\"frame\": F, \"box\": "
+                            f"[x, y, w, h]}}")
+        starts = []
+        for item in items:
+            frame = item.get("frame", 0)
+            if not isinstance(frame, int) or isinstance(frame, bool) or frame < 0:
+                raise HDVRError(f"boxes file {p}: start frame {frame!r} is not a whole number >= 0")
+            box = item["box"]
+            if not isinstance(box, list):
+                raise HDVRError(f"boxes file {p}: box {box!r} is not a list [x, y, w, h]")
+            starts.append((frame, parse_boxes(",".join(str(v) for v in box))[0]))
+    elif kind == "mot":
+        seen = np.isfinite(content).all(axis=2)  # (T, N)
+        first = seen.argmax(axis=0)
+        starts = [(int(first[i]), tuple(float(v) for v in content[first[i], i]))
+                  for i in range(content.shape[1]) if seen[:, i].any()]
+    else:
+        starts = [(0, b) for b in _first_frame_boxes(p, kind, content)]
     if not starts:
         raise HDVRError(f"boxes file {p} has no box")
     return sorted(starts, key=lambda s: s[0])
