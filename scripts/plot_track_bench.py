@@ -5,9 +5,9 @@ Reads the synthetic-clip tables that ``scripts/bench_track.py --sections synth``
 of a markdown file (default docs/benchmarks.md) and draws one dot per clip: x = clip (genre and dancer count),
 y = IDF1, one colour per seed (past 10 seeds the colours repeat with another marker), a ring around clips with
 identity switches, the 0.9 target as a line. ``--colour-by hidden`` colours the clips instead by whether a dancer
-starts hidden (the "starts hidden" column of the tables since session 14). Where the table has the column "IDF1 / switches at IoU 0.4" (since
-session 12), a clip below the target or with switches also gets a grey tick at that IDF1: how much of its loss is
-box extent rather than identity.
+starts hidden (the "starts hidden" column of the tables since session 14). Where the table has the column
+"IDF1 / switches at IoU 0.4" (since session 12), a clip below the target or with switches also gets a grey tick at
+that IDF1: how much of its loss is box extent rather than identity.
 
     python3 scripts/plot_track_bench.py [--markdown docs/benchmarks.md] [--out docs/img/tracking_synth_idf1.png]
                                         [--sections HEADING ...] [--colour-by seed|hidden]

@@ -44,12 +44,17 @@ def test_track_boxes_only(clip, tmp_path, capsys):
     assert overlay.info.size == (640, 480) and sum(1 for _ in overlay) == 60
 
 
-def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
-    """A start box mostly behind another dancer's gets a one-line warning naming both dancers."""
+def _walker_behind_still():
+    """A still figure and one starting with its box mostly behind it (feet higher), walking out to the left."""
     still = FigureSpec((160.0, 130.0), (0.0, 0.0), 150.0, ((40, 40, 210), (40, 200, 230)), depth=1.0)
     walker = FigureSpec((166.0, 118.0), (-2.5, 0.0), 130.0, ((200, 60, 40), (230, 200, 40)), depth=0.0)
+    return [still, walker]
+
+
+def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
+    """A start box mostly behind another dancer's gets a one-line warning naming both dancers."""
     path = tmp_path / "stack.mp4"
-    truth = render_clip(path, frames=10, size=(320, 240), specs=[still, walker])
+    truth = render_clip(path, frames=10, size=(320, 240), specs=_walker_behind_still())
     assert main(["track", str(path), "--out", str(tmp_path / "out"), "--boxes", _boxes_arg(truth),
                  "--detector", "none", "--no-overlay"]) == 0
     warnings = [line for line in capsys.readouterr().err.splitlines() if "hidden" in line]
@@ -61,10 +66,8 @@ def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
 def test_track_starts_a_hidden_dancer_later_from_a_boxes_file(tmp_path, capsys):
     """A dancer hidden in the first frame is given its box where it is seen clearly (MOT text: its id's first row):
     it is absent before, tracked from there, and nothing warns; a start after the video's end is refused."""
-    still = FigureSpec((160.0, 130.0), (0.0, 0.0), 150.0, ((40, 40, 210), (40, 200, 230)), depth=1.0)
-    walker = FigureSpec((166.0, 118.0), (-2.5, 0.0), 130.0, ((200, 60, 40), (230, 200, 40)), depth=0.0)
     path = tmp_path / "stack.mp4"
-    truth = render_clip(path, frames=40, size=(320, 240), specs=[still, walker])
+    truth = render_clip(path, frames=40, size=(320, 240), specs=_walker_behind_still())
     late = 25  # the walker's body is clear of the still figure by then
     boxes = np.full_like(truth.boxes, np.nan)
     boxes[0, 0], boxes[late, 1] = truth.boxes[0, 0], truth.boxes[late, 1]

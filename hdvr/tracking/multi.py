@@ -954,6 +954,7 @@ class MultiDancerTracker(ReportedExtent):
         dets = [tuple(float(v) for v in det) for det in detections]
         holders = [o for o in self.dancers if o.status == TRACKED and o.hidden_behind is None]
         taken = {k for _, k in self._fit_assignment([o.box for o in holders], dets)[1]} if holders else set()
+        histograms = {}  # detection index -> its colour histogram, computed once for all waiting dancers
         for d in waiting:
             front = self.dancers[d.hidden_behind]
             centre = np.asarray(box_centre(d.box))
@@ -966,7 +967,9 @@ class MultiDancerTracker(ReportedExtent):
                 distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
                 if distance > best_distance:
                     continue
-                hist = colour_histogram(frame, det)
+                if k not in histograms:
+                    histograms[k] = colour_histogram(frame, det)
+                hist = histograms[k]
                 if hist is None or histogram_similarity(hist, front.stored_histogram) >= c.reid_similarity:
                     continue
                 best, best_distance = (k, hist), distance
