@@ -568,3 +568,23 @@ def test_dancer_started_hidden_takes_the_detection_that_comes_out_from_behind(tm
     assert waiting[True] is None and waiting[False] == 0
     assert scores[True].idf1 >= 0.85 and scores[True].id_switches == 0, scores[True]
     assert scores[True].idf1 > scores[False].idf1 + 0.2, scores
+
+
+def test_dancer_still_hidden_is_not_reidentified_on_the_dancer_in_front(tmp_path):
+    """A dancer that still waits to come out from behind another has that dancer's colours as memory, so a
+    patch of the dancer in front matches it. With ``hidden_front_rival`` the dancer in front is its rival in
+    re-identification: the patch is not taken for the hidden dancer (it was on cached synthetic clips, an
+    identity switch); without it, it is."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=2, size=(320, 240), specs=_stack_specs())
+    frame = next(iter(VideoReader(tmp_path / "clip.mp4")))
+    front = tuple(truth.boxes[0][0])
+    patch = (front[0] + 4.0, front[1] + 6.0, front[2], front[3])  # the dancer in front, a little off its box
+    taken = {}
+    for on in (True, False):
+        tracker = MultiDancerTracker(frame, truth.boxes[0], MultiTrackerConfig(hidden_front_rival=on))
+        hidden = tracker.dancers[1]
+        assert hidden.hidden_behind == 0
+        assert histogram_similarity(colour_histogram(frame, patch), hidden.stored_histogram) >= \
+            tracker.config.reid_similarity  # the memory of the hidden dancer matches the dancer in front
+        taken[on] = tracker._histogram_matches(frame, [(hidden, [patch])], rivals=[hidden])
+    assert taken[True] == [] and [m[0] for m in taken[False]] == [hidden]
