@@ -386,11 +386,13 @@ def test_dancer_walking_out_of_a_stack_is_not_a_tracking_failure(tmp_path):
     """Two dancers start overlapping, so neither ever had a velocity from clear frames. One walks off: its tracker
     follows it, moving unlike the still dancer it overlaps, which is no sign of a dragged tracker
     (``still_needs_follower``); without the rule every such move counted as a failure (a ballet quartet, seed 137:
-    IDF1 0.60 -> 0.88). A tracker that moves like the dancer it overlaps still fails (:meth:`_moves_with`)."""
+    IDF1 0.60 -> 0.88). A tracker that moves like the dancer it overlaps still fails (:meth:`_moves_with`). (The
+    two start as a couple, so ``couple_moves_together`` would spare the walker too: it is off here.)"""
     truth = _stack_clip(tmp_path / "clip.mp4")
     frames = list(VideoReader(tmp_path / "clip.mp4"))
     for rule, expect_occluded in ((True, False), (False, True)):
-        tracker = MultiDancerTracker(frames[0], truth.boxes[0], MultiTrackerConfig(still_needs_follower=rule))
+        config = MultiTrackerConfig(still_needs_follower=rule, couple_moves_together=False)
+        tracker = MultiDancerTracker(frames[0], truth.boxes[0], config)
         status = [tracker.step(frame).status[1] for frame in frames[1:]]
         assert (OCCLUDED in status) == expect_occluded, (rule, status)
         if rule:
@@ -484,6 +486,35 @@ def test_still_dancer_moving_off_onto_another_look_is_a_tracking_failure():
         similarity = histogram_similarity(colour_histogram(frame, box), still.stored_histogram)
         assert tracker.config.failure_histogram < similarity, similarity  # the old histogram test passes it
         assert tracker._failed(still, frame, [1], [still.box, passing.box]) == expected, (still_histogram, box)
+
+
+def test_couple_in_hold_moving_together_is_not_a_dragged_tracker():
+    """Two dancers that start overlapping each other (a couple in hold) have no stored velocity, since neither was
+    ever clear; moving together is what they do, not a tracker dragged by the partner (``couple_moves_together``;
+    seed 201 tango of hdvr synth: both partners failed so and stayed occluded, IDF1 0.575 -> 0.875). A dancer that
+    started overlapping two others, or has been seen clear, still fails the dragged-tracker test."""
+    frame = np.full((480, 640, 3), 90, np.uint8)
+    frame[100:220, 100:140] = (40, 40, 220)
+    frame[100:220, 130:170] = (220, 80, 40)
+    frame[100:220, 160:200] = (40, 200, 40)
+    couple = [(100.0, 100.0, 40.0, 120.0), (130.0, 100.0, 40.0, 120.0)]
+
+    def dragged(tracker, seen_clear=False) -> bool:
+        first, partner = tracker.dancers[:2]
+        steps = tracker.config.motion_window + 1
+        first.centers = [np.array([120.0 + 5 * k, 160.0]) for k in range(steps)]
+        partner.centers = [np.array([150.0 + 5 * k, 160.0]) for k in range(steps)]
+        first.velocity_measured = seen_clear
+        return tracker._failed(first, frame, [1], [d.box for d in tracker.dancers])
+
+    held = MultiDancerTracker(frame, couple)
+    assert held.dancers[0].start_partners == {1} and held.dancers[1].start_partners == {0}
+    assert not dragged(held)
+    assert dragged(MultiDancerTracker(frame, couple, MultiTrackerConfig(couple_moves_together=False)))
+    assert dragged(MultiDancerTracker(frame, couple), seen_clear=True)
+    clump = MultiDancerTracker(frame, couple + [(115.0, 100.0, 40.0, 120.0)])  # a third dancer starts on both
+    assert clump.dancers[0].start_partners == {1, 2}
+    assert dragged(clump)
 
 
 def test_occluded_dancer_reidentified_beside_a_dancer_without_a_detection():

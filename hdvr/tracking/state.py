@@ -45,6 +45,9 @@ class DancerTrack:
     detected_at_edge: str | None = None  # "left" or "right": the last detection on the box was cut by that edge
     hidden_behind: int | None = None  # id of the dancer it started mostly hidden behind: its stored colours are
     # that dancer's until it comes out (:meth:`hdvr.tracking.multi.MultiDancerTracker._emerge`); then None
+    start_partners: frozenset = frozenset()  # ids of the dancers whose body core overlapped this one's when either
+    # started (:meth:`hdvr.tracking.multi.MultiDancerTracker.add_dancer`): exactly one is a couple in hold
+    velocity_measured: bool = False  # its clear track has spanned ``min_velocity_span`` frames at least once
     group_reference: tuple[float, float] | None = None  # (height of its detection, of its box) px when its group's
     # scale was first measured (:meth:`hdvr.tracking.multi.MultiDancerTracker._scale_groups`); None while clear
 
