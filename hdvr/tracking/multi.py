@@ -89,8 +89,9 @@ class MultiTrackerConfig:
     couple_moves_together: bool = True  # ... except for a dancer never seen clear that started overlapping exactly
     # one other dancer and moves with it alone: a couple in hold, whose partners move together from the first frame
     # on (:meth:`MultiDancerTracker._couple_in_hold`). Cached synthetic clips: seeds 201-212 and 151-199 mean IDF1
-    # 0.9585 -> 0.9621, switches 15 -> 14 (seed 201 tango 0.575 -> 0.875); seeds 7-139 and groups of 6-8 the same
-    # mean, 1 more switch (seed 97 hip-hop quartet)
+    # 0.9585 -> 0.9621, switches 15 -> 14 (seed 201 tango 0.575 -> 0.875); seeds 7-139 the same mean, 2 -> 3
+    # switches (seed 97 hip-hop quartet); groups of 6-8 0.9279 -> 0.9278; held-out seeds 301-312 (benchmark) 10 -> 11
+    # below 0.9 (seed 302 flamenco 0.950 -> 0.894)
     same_person_iou: float = 0.5  # two tracked boxes overlapping more than this (IoU) may be on the same person:
     # the one matching its own memory worse has failed
     cone_half_angle_deg: float = 25.0

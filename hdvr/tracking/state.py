@@ -46,7 +46,8 @@ class DancerTrack:
     hidden_behind: int | None = None  # id of the dancer it started mostly hidden behind: its stored colours are
     # that dancer's until it comes out (:meth:`hdvr.tracking.multi.MultiDancerTracker._emerge`); then None
     start_partners: frozenset = frozenset()  # ids of the dancers whose body core overlapped this one's when either
-    # started (:meth:`hdvr.tracking.multi.MultiDancerTracker.add_dancer`): exactly one is a couple in hold
+    # started (:meth:`hdvr.tracking.multi.MultiDancerTracker.add_dancer`); exactly one: a couple in hold
+    # (:meth:`hdvr.tracking.multi.MultiDancerTracker._couple_in_hold`)
     velocity_measured: bool = False  # its clear track has spanned ``min_velocity_span`` frames at least once
     group_reference: tuple[float, float] | None = None  # (height of its detection, of its box) px when its group's
     # scale was first measured (:meth:`hdvr.tracking.multi.MultiDancerTracker._scale_groups`); None while clear
