@@ -236,9 +236,12 @@ class MultiDancerTracker(ReportedExtent):
         d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index,
                         start_frame=self.frame_index)
         d.stored_histogram = colour_histogram(frame, b)
-        stacked = [o for o in self.dancers if o.status != OUT
-                   and self._bodies_overlap(b, o.box) > self.config.overlap_threshold] \
-            if self.config.start_ratio_alone else []
+        partners = [o for o in self.dancers if o.status != OUT
+                    and self._bodies_overlap(b, o.box) > self.config.overlap_threshold]
+        d.start_partners = frozenset(o.dancer_id for o in partners)
+        for o in partners:  # symmetric: a dancer starting on one already tracked is its partner too
+            o.start_partners = o.start_partners | {d.dancer_id}
+        stacked = partners if self.config.start_ratio_alone else []
         for o in stacked:  # started in this frame beside this one: neither's start detection is certain
             if o.start_frame == self.frame_index:
                 o.size_ratio = None
@@ -248,11 +251,6 @@ class MultiDancerTracker(ReportedExtent):
             detected = np.array(detections[int(np.argmax(ious))][2:], float)
             d.size_ratio = np.clip(np.array(b[2:]) / detected, 1 / self.config.max_size_ratio,
                                    self.config.max_size_ratio)
-        partners = [o for o in self.dancers if o.status != OUT
-                    and self._bodies_overlap(b, o.box) > self.config.overlap_threshold]
-        d.start_partners = frozenset(o.dancer_id for o in partners)
-        for o in partners:  # symmetric: a dancer starting on one already tracked is its partner too
-            o.start_partners = o.start_partners | {d.dancer_id}
         d.centers.append(d.body_center)
         for o in self.dancers:  # the new dancer behind one, or one started in this frame behind the new one
             if o.status == OUT:
@@ -917,7 +915,7 @@ class MultiDancerTracker(ReportedExtent):
         never been clear long enough to measure a velocity. Its lack of a stored velocity then says nothing about
         whether it stood still, and moving with its partner is no sign of a tracker dragged along."""
         return (self.config.couple_moves_together and not d.velocity_measured and len(d.start_partners) == 1
-                and all(self.dancers[j].dancer_id in d.start_partners for j in overlapping))
+                and set(overlapping) <= d.start_partners)  # indices are dancer ids
 
     def _moves_with(self, motion: np.ndarray, overlapping: list[int]) -> bool:
         """Whether ``motion`` (px/frame) is that of one of the dancers ``overlapping`` (indices): within
