@@ -408,3 +408,32 @@ def test_foreground_mask_is_computed_once_per_frame_and_boxes():
     again = tracker._foreground(frame)
     tracker.dancers[0].box = (250.0, 116.0, 76.0, 288.0)
     assert tracker._foreground(frame) is not again  # the background is sampled around the new boxes
+
+
+def test_a_hidden_dancer_is_written_at_an_amodal_width_within_the_dancers_hiding_it():
+    """A dancer standing straight behind another (or occluded) may have its arms anywhere behind the dancer in
+    front: its written box is at least ``hidden_min_aspect`` x its height wide, centred on its box, but not beyond
+    the dancers overlapping it (a limb beyond them would be seen). Poses are still selected by the tracked extent;
+    the start frame keeps the box given; a dancer standing clear keeps its own width."""
+    frame, _ = _stacked_scene()
+    wide_front = [(230.0, 116.0, 140.0, 288.0), (270.0, 106.0, 60.0, 258.0)]  # A's arms spread, B behind it
+    tracker = MultiDancerTracker(frame, wide_front, MultiTrackerConfig(pixel_extent=False))
+    np.testing.assert_allclose(tracker.result().boxes, wide_front)  # the start frame: the boxes as given
+    tracker.frame_index = 1  # a later frame, the dancers where they were
+    assert tracker._hidden_behind(tracker.dancers[1]) and not tracker._hidden_behind(tracker.dancers[0])
+    a, b = tracker.result().boxes
+    np.testing.assert_allclose(a, wide_front[0])
+    assert b[2] == pytest.approx(0.5 * 258.0) and b[0] + b[2] / 2 == pytest.approx(300.0), b  # about its centre
+    assert b[1] == 106.0 and b[3] == 258.0  # the height is unchanged
+    np.testing.assert_allclose(tracker.result(widen_hidden=False).boxes, wide_front)  # what poses are chosen by
+    # the dancer in front arms down: B's box reaches no further than A's
+    narrow_front = [(262.0, 116.0, 76.0, 288.0), (270.0, 106.0, 60.0, 258.0)]
+    tracker = MultiDancerTracker(frame, narrow_front, MultiTrackerConfig(pixel_extent=False))
+    tracker.frame_index = 1
+    np.testing.assert_allclose(tracker.result().boxes[1], (262.0, 106.0, 76.0, 258.0))
+    # off, or B standing clear beside A: its own width
+    for config, boxes in ((MultiTrackerConfig(hidden_min_aspect=0.0), wide_front),
+                          (MultiTrackerConfig(), [wide_front[0], (470.0, 106.0, 60.0, 258.0)])):
+        tracker = MultiDancerTracker(frame, boxes, config)
+        tracker.frame_index = 1
+        np.testing.assert_allclose(tracker.result().boxes, boxes)

@@ -5,8 +5,10 @@ the size it had when clear, so spread arms or a raised leg fall outside it. Afte
 dancer's pose on a detector frame, :meth:`ReportedExtent.extend_to_poses` grows the box that is written (not the
 one that is tracked) on each side as far as the evidence reaches: the clearly chosen pose, foreground pixels at arm
 height, the limb beside a front dancer that its skeleton does not explain (for the dancer hidden behind it, and
-for the dancer in front where its own arm reaches or points there), and the dancer's own GrabCut segment. The
-tracking itself (overlaps, histograms, failure tests, relocation) never uses these extents.
+for the dancer in front where its own arm reaches or points there), and the dancer's own GrabCut segment. A hidden
+dancer's written box is also at least ``hidden_min_aspect`` x its height wide within the dancers hiding it
+(:meth:`ReportedExtent._widen_hidden`). The tracking itself (overlaps, histograms, failure tests, relocation)
+never uses these extents.
 
 :class:`ReportedExtent` is a mixin of :class:`hdvr.tracking.multi.MultiDancerTracker`; it reads the tracker's
 ``config`` (:class:`hdvr.tracking.multi.MultiTrackerConfig`: the ``pose_*``, ``pixel_*``, ``stacked_*``,
@@ -109,13 +111,37 @@ class ReportedExtent:
             d.growth = (1 - a) * d.growth + a * target
         return self.result()
 
-    def _hidden_behind(self, d: DancerTrack) -> bool:
+    def _widen_hidden(self, boxes: np.ndarray) -> np.ndarray:
+        """Reported ``boxes`` (N, 4) px with each hidden dancer's (:meth:`_hidden_behind` with
+        ``hidden_widen_overlap``) widened about its centre to ``hidden_min_aspect`` x its height, but not beyond the
+        dancers whose boxes overlap it: a limb reaching further would be seen. Not in a dancer's start frame (its
+        box is the one given). Only the boxes written change (``result()``): tracking and pose selection
+        (``result(widen_hidden=False)``) do not see the widening."""
+        c = self.config
+        aspect = c.hidden_min_aspect
+        out = boxes.copy()
+        for i, d in enumerate(self.dancers):
+            x, y, w, h = boxes[i]
+            if d.status == OUT or d.start_frame == self.frame_index or aspect * h <= w \
+                    or not self._hidden_behind(d, c.hidden_widen_overlap):
+                continue
+            lo, hi = x, x + w
+            for j, b in enumerate(boxes):
+                if j != i and np.isfinite(b).all() and b[0] < x + w and b[0] + b[2] > x and b[1] < y + h \
+                        and b[1] + b[3] > y:
+                    lo, hi = min(lo, b[0]), max(hi, b[0] + b[2])
+            centre = x + w / 2
+            x0, x1 = max(centre - aspect * h / 2, lo), min(centre + aspect * h / 2, hi)
+            out[i, 0], out[i, 2] = x0, x1 - x0
+        return out
+
+    def _hidden_behind(self, d: DancerTrack, overlap: float | None = None) -> bool:
         """Whether dancer ``d`` is hidden: occluded, or standing straight behind a tracked dancer (body cores
-        overlapping more than ``pose_stack_overlap``, intersection / smaller; the other's box bottom at least
-        ``pixel_front`` x ``d``'s height lower in the image)."""
+        overlapping more than ``overlap``, intersection / smaller, by default ``pose_stack_overlap``; the other's box
+        bottom at least ``pixel_front`` x ``d``'s height lower in the image)."""
         if d.status == OCCLUDED:
             return True
-        return any(o is not d and o.status == TRACKED and self._straight_in_front(o, d) for o in self.dancers)
+        return any(o is not d and o.status == TRACKED and self._straight_in_front(o, d, overlap) for o in self.dancers)
 
     def _straight_in_front(self, f: DancerTrack, d: DancerTrack, overlap: float | None = None) -> bool:
         """Whether dancer ``f`` stands straight in front of dancer ``d``: body cores overlapping more than

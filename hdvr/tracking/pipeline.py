@@ -229,7 +229,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             kp[..., 2] = 0
             if run_detector:
                 tic = time.perf_counter()
-                chosen = selector.select(frame, result.boxes, people)
+                # poses are chosen by the tracked extent, not by the amodal width guessed for hidden dancers
+                chosen = selector.select(frame, _pad(tracker.result(widen_hidden=False), n).boxes, people)
                 for i, pose in enumerate(chosen):
                     if pose is not None:
                         kp[i] = pose.body25()
