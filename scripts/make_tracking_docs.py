@@ -3,7 +3,8 @@
 Renders held-out hdvr.synth clips (deterministic by seed), tracks them as ``scripts/bench_track.py --sections synth``
 does (ground-truth start boxes, YOLO11n-pose at 480 px on every 3rd frame) and draws chosen frames: each dancer's
 amodal ground-truth box thin, its tracked box thick in the same colour, with the IoU between them; the detector's
-person boxes of that frame in white. Writes one JPEG per (seed, clip, frame) into docs/img.
+person boxes of that frame in white. Writes one JPEG per (seed, clip, frame) into docs/img, and for the cases of
+``BEFORE_AFTER`` one picture with the frame tracked without a rule (left) and with it (right).
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -27,11 +28,17 @@ CASES = (
     (97, 5, "ballet", 4, 57, "a clump of three: no pose is chosen for dancer 2 (narrow box), and the predicted box of "
                              "dancer 3, hidden behind them, matches dancer 2's ground truth better"),
 )
+#: (seed, clip index, genre, dancers, frame, MultiTrackerConfig field switched off on the left, picture name)
+BEFORE_AFTER = (
+    (113, 5, "ballet", 4, 60, "hidden_min_aspect", "tracking_amodal_s113_ballet_060.jpg"),
+)
 COLOURS = [(0, 0, 255), (0, 190, 0), (255, 60, 0), (0, 200, 220)]  # BGR
 
 
-def draw_case(frame: np.ndarray, gt: np.ndarray, tracked: np.ndarray, detections, crop_margin: int = 40):
-    """Frame with ground-truth (thin) and tracked (thick) boxes, IoU labels, detections in white; cropped."""
+def draw_case(frame: np.ndarray, gt: np.ndarray, tracked: np.ndarray, detections, crop_margin: int = 40,
+              crop_boxes=None):
+    """Frame with ground-truth (thin) and tracked (thick) boxes, IoU labels, detections in white; cropped around
+    the boxes (and ``crop_boxes`` (K, 4) px, if given: to crop two pictures alike)."""
     import cv2
 
     from hdvr.tracking.appearance import box_iou
@@ -51,7 +58,8 @@ def draw_case(frame: np.ndarray, gt: np.ndarray, tracked: np.ndarray, detections
             cv2.rectangle(img, (x, y), (x + w, y + h), colour, 3)
             iou = box_iou(gt[i], tracked[i]) if np.isfinite(gt[i]).all() else 0.0
             labels.append((f"dancer {i}: IoU {iou:.2f}", colour))
-    boxes = np.concatenate([gt[np.isfinite(gt).all(axis=1)], tracked[np.isfinite(tracked).all(axis=1)]])
+    boxes = [gt, tracked] + ([np.asarray(crop_boxes, float)] if crop_boxes is not None else [])
+    boxes = np.concatenate([b[np.isfinite(b).all(axis=1)] for b in boxes])
     x0 = max(0, int(boxes[:, 0].min()) - crop_margin)
     y0 = max(0, int(boxes[:, 1].min()) - crop_margin)
     x1 = min(img.shape[1], int((boxes[:, 0] + boxes[:, 2]).max()) + crop_margin)
@@ -66,47 +74,97 @@ def draw_case(frame: np.ndarray, gt: np.ndarray, tracked: np.ndarray, detections
     return picture
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--out", type=Path, default=Path("docs/img"))
-    args = parser.parse_args(argv)
+def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, configs):
+    """Render clip ``index`` of ``seed`` and track it once per config; returns (gt (T, N, 4), tracked boxes per
+    config (T, N, 4), path of the video), dancers in the clip's order."""
+    from hdvr.synth.groundtruth import ClipSpec, make_clip
+    from hdvr.tracking.pipeline import DancerStart, track_video
 
+    spec = ClipSpec(index, seed, genre, n, 4.0)
+    make_clip(tmp, spec, render=True)
+    clip = tmp / spec.name
+    with np.load(clip / "gt.npz") as g:
+        gt = np.transpose(g["boxes"], (1, 0, 2)).astype(float)
+    first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(n)]
+    order = sorted(range(n), key=lambda i: first[i])
+    starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
+    tracked = []
+    for config in configs:
+        run = track_video(clip / "video.mp4", tmp / "out", detector=detector, starts=starts, detect_every=3,
+                          overlay=False, write=False, config=config)
+        tracked.append(run.boxes[:, np.argsort(order)])
+    return gt, tracked, clip / "video.mp4"
+
+
+def _frame_and_detections(video: Path, detector, frame_index: int):
+    """Frame ``frame_index`` of ``video`` and the detector's persons on the detector frame the tracker used last."""
+    from hdvr.video import VideoReader
+
+    detector_frame = frame_index - frame_index % 3
+    frames = {k: f for k, f in enumerate(VideoReader(video)) if k in (frame_index, detector_frame)}
+    return frames[frame_index], detector.detect(frames[detector_frame], detector_frame)
+
+
+def _write_jpeg(path: Path, picture: np.ndarray) -> None:
     import cv2
 
     from hdvr.io.atomic import atomic_path
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    ok, data = cv2.imencode(".jpg", picture, [cv2.IMWRITE_JPEG_QUALITY, 88])
+    if not ok:
+        raise SystemExit(f"make_tracking_docs: error: cannot encode {path.name} as JPEG")
+    with atomic_path(path) as tmp_path:
+        tmp_path.write_bytes(data.tobytes())
+
+
+def _side_by_side(left: np.ndarray, right: np.ndarray, titles) -> np.ndarray:
+    """Two pictures of the same crop side by side, each with a title strip above it."""
+    import cv2
+
+    height = max(left.shape[0], right.shape[0])
+    panels = []
+    for picture, title in zip((left, right), titles):
+        picture = cv2.copyMakeBorder(picture, 26, height - picture.shape[0], 0, 6, cv2.BORDER_CONSTANT,
+                                     value=(255, 255, 255))
+        cv2.putText(picture, title, (8, 18), cv2.FONT_HERSHEY_SIMPLEX, 0.55, (0, 0, 0), 1)
+        panels.append(picture)
+    return cv2.hconcat(panels)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", type=Path, default=Path("docs/img"))
+    parser.add_argument("--only", choices=("limits", "before-after"), default=None,
+                        help="write only the limit pictures or only the before/after ones")
+    args = parser.parse_args(argv)
+
+    from dataclasses import replace
+
     from hdvr.pose2d.models import default_pose_model
     from hdvr.pose2d.onnx_pose import OnnxPoseDetector
-    from hdvr.synth.groundtruth import ClipSpec, make_clip
-    from hdvr.tracking.pipeline import DancerStart, track_video
-    from hdvr.video import VideoReader
+    from hdvr.tracking.multi import MultiTrackerConfig
 
     detector = OnnxPoseDetector(default_pose_model(), input_size=480, threads=2, score_threshold=0.3)
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        for seed, index, genre, n, frame_index, what in CASES:
-            spec = ClipSpec(index, seed, genre, n, 4.0)
-            make_clip(tmp, spec, render=True)
-            clip = tmp / spec.name
-            with np.load(clip / "gt.npz") as g:
-                gt = np.transpose(g["boxes"], (1, 0, 2)).astype(float)
-            first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(n)]
-            order = sorted(range(n), key=lambda i: first[i])
-            starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
-            run = track_video(clip / "video.mp4", tmp / "out", detector=detector, starts=starts, detect_every=3,
-                              overlay=False, write=False)
-            tracked = run.boxes[:, np.argsort(order)]
-            detector_frame = frame_index - frame_index % 3  # the detector frame the tracker used last
-            frames = {k: f for k, f in enumerate(VideoReader(clip / "video.mp4")) if k in (frame_index, detector_frame)}
-            frame, detections = frames[frame_index], detector.detect(frames[detector_frame], detector_frame)
-            picture = draw_case(frame, gt[frame_index], tracked[frame_index], detections)
+        for seed, index, genre, n, frame_index, what in CASES if args.only != "before-after" else ():
+            gt, (tracked,), video = _track_case(tmp, detector, seed, index, genre, n, [None])
+            frame, detections = _frame_and_detections(video, detector, frame_index)
             path = args.out / f"tracking_limit_s{seed}_{genre}_{frame_index:03d}.jpg"
-            path.parent.mkdir(parents=True, exist_ok=True)
-            ok, data = cv2.imencode(".jpg", picture, [cv2.IMWRITE_JPEG_QUALITY, 88])
-            if not ok:
-                raise SystemExit(f"make_tracking_docs: error: cannot encode {path.name} as JPEG")
-            with atomic_path(path) as tmp_path:
-                tmp_path.write_bytes(data.tobytes())
+            _write_jpeg(path, draw_case(frame, gt[frame_index], tracked[frame_index], detections))
             print(f"wrote {path}: {what}", file=sys.stderr)
+        for seed, index, genre, n, frame_index, field, name in BEFORE_AFTER if args.only != "limits" else ():
+            default = MultiTrackerConfig()
+            off = replace(default, **{field: type(getattr(default, field))()})  # 0, 0.0 or False
+            gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [off, default])
+            frame, detections = _frame_and_detections(video, detector, frame_index)
+            both = np.concatenate([tracked[0][frame_index], tracked[1][frame_index]])
+            pictures = [draw_case(frame, gt[frame_index], t[frame_index], detections, crop_boxes=both)
+                        for t in tracked]
+            path = args.out / name
+            _write_jpeg(path, _side_by_side(*pictures, (f"{field} off", f"{field} = {getattr(default, field)}")))
+            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, {field} off and on", file=sys.stderr)
     return 0
 
 
