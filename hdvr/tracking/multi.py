@@ -151,6 +151,9 @@ class MultiTrackerConfig:
     # gone); seeds 7-127 0.9735 -> 0.9728 (seed 101 flamenco 0.900 -> 0.897); groups of 6-8 0.9205 -> 0.9212
     group_scale_agreement: float = 1.15  # ... when the dancers' scale changes are within this factor of each other
     group_scale_adaptation: float = 0.3  # ... by this fraction of the (log) change per detector frame
+    group_scale_shared: bool = True  # ... or, when the detector draws one person box over the whole group (a couple
+    # in hold), as that box grows or shrinks (:meth:`MultiDancerTracker._shared_detection`)
+    group_shared_inside: float = 0.6  # ... which holds at least this fraction of each dancer's body core
     pose_extent: bool = True  # the reported box of a dancer extends to the box of the pose Algorithm 2* chose for
     # it where that reaches further (spread arms), when the choice is clear (:meth:`MultiDancerTracker.extend_to_poses`)
     pose_margin: float = 0.2  # ... the pose's selection score better by this for the dancer than for any other
@@ -861,13 +864,20 @@ class MultiDancerTracker(ReportedExtent):
         for members in self._groups(group):
             hidden = [o for o in self.dancers if o.status == OCCLUDED
                       and any(self._bodies_overlap(o.box, m.box) > c.overlap_threshold for m in members)]
-            if len(members) < 2 or hidden or any(m.dancer_id not in assigned for m in members):
+            if len(members) < 2 or hidden:
                 continue
-            if any(m.group_reference is None for m in members):
+            heights = {m.dancer_id: assigned[m.dancer_id][3] for m in members if m.dancer_id in assigned}
+            shared = len(heights) < len(members)
+            if shared:  # one person box over the whole group (a couple in hold seen as one): its height for all
+                det = self._shared_detection(members, detections) if c.group_scale_shared else None
+                if det is None:
+                    continue
+                heights = {m.dancer_id: det[3] for m in members}
+            if any(m.group_reference is None or m.group_reference[2] != shared for m in members):
                 for m in members:
-                    m.group_reference = (assigned[m.dancer_id][3], m.box[3])
+                    m.group_reference = (heights[m.dancer_id], m.box[3], shared)
                 continue
-            change = np.array([assigned[m.dancer_id][3] / m.group_reference[0] * m.group_reference[1] / m.box[3]
+            change = np.array([heights[m.dancer_id] / m.group_reference[0] * m.group_reference[1] / m.box[3]
                                for m in members])
             if change.max() / change.min() > c.group_scale_agreement:
                 continue
@@ -877,6 +887,17 @@ class MultiDancerTracker(ReportedExtent):
             factor = float(np.exp(c.group_scale_adaptation * log_change))
             for m in members:
                 m.box = box_at(box_centre(m.box), (0.0, 0.0, m.box[2] * factor, m.box[3] * factor))
+
+    def _shared_detection(self, members: list[DancerTrack], detections):
+        """The one detection (x, y, w, h px) that holds the body cores of all ``members`` (each at least
+        ``group_shared_inside`` inside it) when no other detection overlaps any of those cores (intersection / core
+        more than ``overlap_threshold``); else None."""
+        c = self.config
+        cores = [self._core(m.box) for m in members]
+        touching = [det for det in detections if any(box_inside(core, det) > c.overlap_threshold for core in cores)]
+        if len(touching) != 1 or any(box_inside(core, touching[0]) < c.group_shared_inside for core in cores):
+            return None
+        return tuple(float(v) for v in touching[0])
 
     @staticmethod
     def _fit_velocity(track, max_speed: float = np.inf) -> np.ndarray:

@@ -49,8 +49,9 @@ class DancerTrack:
     # started (:meth:`hdvr.tracking.multi.MultiDancerTracker.add_dancer`); exactly one: a couple in hold
     # (:meth:`hdvr.tracking.multi.MultiDancerTracker._couple_in_hold`)
     velocity_measured: bool = False  # its clear track has spanned ``min_velocity_span`` frames at least once
-    group_reference: tuple[float, float] | None = None  # (height of its detection, of its box) px when its group's
-    # scale was first measured (:meth:`hdvr.tracking.multi.MultiDancerTracker._scale_groups`); None while clear
+    group_reference: tuple[float, float, bool] | None = None  # (height of its detection, of its box) px when its
+    # group's scale was first measured, and whether that detection was one shared by the group
+    # (:meth:`hdvr.tracking.multi.MultiDancerTracker._scale_groups`); None while clear
 
     @property
     def body_center(self) -> np.ndarray:
