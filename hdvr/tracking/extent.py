@@ -25,6 +25,7 @@ import cv2
 import numpy as np
 
 from hdvr.pose2d.selection import skeleton_mask
+from hdvr.tracking.appearance import box_overlap
 from hdvr.tracking.state import OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, box_at, box_centre
 
 
@@ -127,8 +128,7 @@ class ReportedExtent:
                 continue
             lo, hi = x, x + w
             for j, b in enumerate(boxes):
-                if j != i and np.isfinite(b).all() and b[0] < x + w and b[0] + b[2] > x and b[1] < y + h \
-                        and b[1] + b[3] > y:
+                if j != i and np.isfinite(b).all() and box_overlap(boxes[i], b) > 0:
                     lo, hi = min(lo, b[0]), max(hi, b[0] + b[2])
             centre = x + w / 2
             x0, x1 = max(centre - aspect * h / 2, lo), min(centre + aspect * h / 2, hi)
