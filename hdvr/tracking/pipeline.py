@@ -209,10 +209,11 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 people = detector.detect(frame, t)
                 stage["detect"] += time.perf_counter() - tic
             tic = time.perf_counter()
+            stepped = None
             if tracker is None:
                 tracker = MultiDancerTracker(frame, [], config)
             else:
-                tracker.step(frame, detections=[p.box for p in people] if run_detector else None)
+                stepped = tracker.step(frame, detections=[p.box for p in people] if run_detector else None)
             new_ids = [tracker.add_dancer(frame, s.box, [p.box for p in people] if run_detector else None)
                        for s in starts if s.frame == t]
             for i in new_ids:
@@ -223,7 +224,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                           f"colours are unknown until it comes out clear of the others, and it may be taken for "
                           f"dancer {front}; check it in the overlay video, or give it a start box in a later frame "
                           f"where it is seen clearly (--boxes-file with start frames)", file=sys.stderr)
-            result = _pad(tracker.result(), n)
+            # the frame's result from step() holds unless dancers were added after it
+            result = _pad(stepped if stepped is not None and not new_ids else tracker.result(), n)
             stage["track"] += time.perf_counter() - tic
             kp = np.full((n, 25, 3), np.nan, np.float32)
             kp[..., 2] = 0
