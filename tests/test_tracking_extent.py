@@ -70,10 +70,23 @@ def test_box_grows_to_cover_spread_arms_in_a_group():
     assert abs(h - tracked[3]) < 2 and abs(y - tracked[1]) < 2  # arms out: width, not height
     # the second dancer, arms down, keeps its box
     np.testing.assert_allclose(result.boxes[1], tracker.dancers[1].box, atol=1e-6)
-    # arms down again: the growth goes back
+    spread = result.boxes[0][2]
+    # arms down again: the growth goes back, in a group at a third of the rate it came (``group_shrink``: there one
+    # frame without the arms says little)
     frame, kp_a, kp_b = _scene(arm_span=60.0)
-    for _ in range(6):
+    for _ in range(4):
         result = tracker.extend_to_poses(frame, [_pose(kp_a), _pose(kp_b)], [0.6, 0.6])
+    assert tracked[2] + 30 < result.boxes[0][2] < spread - 30, (tracked, spread, result.boxes[0])
+    for _ in range(16):
+        result = tracker.extend_to_poses(frame, [_pose(kp_a), _pose(kp_b)], [0.6, 0.6])
+    assert result.boxes[0][2] < tracked[2] + 10
+    # shrinking as fast as it grows, four frames do
+    _, fast = _tracker()
+    fast.config = MultiTrackerConfig(pixel_extent=False, group_shrink=1.0)
+    for arms in (220.0, 60.0):
+        frame, kp_a, kp_b = _scene(arm_span=arms)
+        for _ in range(4):
+            result = fast.extend_to_poses(frame, [_pose(kp_a), _pose(kp_b)], [0.6, 0.6])
     assert result.boxes[0][2] < tracked[2] + 10
 
 
@@ -263,7 +276,7 @@ def test_a_hidden_dancer_keeps_its_extent_until_it_shows_again():
             tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
         assert tracker._hidden_behind(tracker.dancers[1]) and not tracker._hidden_behind(tracker.dancers[0])
         frame, kp_a = _stacked_scene()  # the arm is down, behind A
-        for _ in range(6):
+        for _ in range(18):  # in a group the growth goes back at a third of the rate (``group_shrink``)
             result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
         boxes[hold] = result.boxes[1]
     assert boxes[True][0] < 180 + 12, boxes[True]  # still reaching to where the arm was

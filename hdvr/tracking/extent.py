@@ -66,8 +66,10 @@ class ReportedExtent:
         (:meth:`_grabcut_reach`). Per side, the largest of these extents is approached. ``pose_extent`` off switches
         all off, ``pixel_extent`` off the last three.
 
-        Elsewhere the growth shrinks by that fraction, except (``hold_hidden_extent``) for a dancer hidden behind
-        another (:meth:`_hidden_behind`): no evidence can show that its limbs came in, so it keeps its extent. The
+        Elsewhere the growth shrinks by that fraction (in a group, by ``group_shrink`` x that fraction: the
+        evidence flickers there, and one frame without a limb says little), except (``hold_hidden_extent``) for a
+        dancer hidden behind another (:meth:`_hidden_behind`): no evidence can show that its limbs came in, so it
+        keeps its extent. The
         box never shrinks below the tracked box (in a group a detection shows the visible part, which the dancer in
         front may cut), and the growth changes only the reported box, not the tracking (overlaps, histograms,
         failure tests, relocation). Returns the frame's result with the reported boxes."""
@@ -78,6 +80,7 @@ class ReportedExtent:
         size = (frame.shape[1], frame.shape[0])
         fg = self._foreground(frame) if c.pixel_extent else None  # sampled around the tracked boxes
         pairs = list(self._stacked_pairs(fg, poses, margins)) if fg is not None else []  # computed once per frame
+        boxes = [d.box for d in self.dancers]
         for i, d in enumerate(self.dancers):
             if d.status == OUT:
                 continue
@@ -109,7 +112,8 @@ class ReportedExtent:
                             target[side] = max(target[side], reach[side])
             if c.hold_hidden_extent and self._hidden_behind(d):
                 target = np.maximum(target, d.growth)  # nothing can show its limbs are in: they stay out
-            d.growth = (1 - a) * d.growth + a * target
+            rate = np.where(target >= d.growth, a, a * (c.group_shrink if self._overlapping(i, boxes) else 1.0))
+            d.growth = (1 - rate) * d.growth + rate * target
         return self.result()
 
     def _widen_hidden(self, boxes: np.ndarray) -> np.ndarray:
