@@ -69,10 +69,9 @@ class ReportedExtent:
         Elsewhere the growth shrinks by that fraction (in a group, by ``group_shrink`` x that fraction: the
         evidence flickers there, and one frame without a limb says little), except (``hold_hidden_extent``) for a
         dancer hidden behind another (:meth:`_hidden_behind`): no evidence can show that its limbs came in, so it
-        keeps its extent. The
-        box never shrinks below the tracked box (in a group a detection shows the visible part, which the dancer in
-        front may cut), and the growth changes only the reported box, not the tracking (overlaps, histograms,
-        failure tests, relocation). Returns the frame's result with the reported boxes."""
+        keeps its extent. The box never shrinks below the tracked box (in a group a detection shows the visible
+        part, which the dancer in front may cut), and the growth changes only the reported box, not the tracking
+        (overlaps, histograms, failure tests, relocation). Returns the frame's result with the reported boxes."""
         c = self.config
         if not c.pose_extent:
             return self.result()
