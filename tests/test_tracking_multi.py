@@ -599,6 +599,11 @@ def test_hiding_dancer_names_the_dancer_in_front():
     assert tracker.hiding_dancer(0) == 1 and tracker.hiding_dancer(1) is None
     beside = MultiDancerTracker(frame, [behind, (420.0, 180.0, 120.0, 260.0)])
     assert beside.hiding_dancer(0) is None
+    # while dancer 0 waits behind dancer 1 it is no rival for dancer 1's pose (its colours are dancer 1's)
+    np.testing.assert_array_equal(tracker.not_pose_rivals(), [[False, False], [True, False]])
+    assert not beside.not_pose_rivals().any()
+    off = MultiDancerTracker(frame, [behind, front], MultiTrackerConfig(waiting_not_rival=False))
+    assert not off.not_pose_rivals().any()
 
 
 def _stack_specs():

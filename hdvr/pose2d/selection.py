@@ -71,8 +71,11 @@ class PoseSelector:
         # any other dancer (inf when no other dancer could take it; None when no pose was chosen)
         self.margins: list[float | None] = [None] * num_dancers
 
-    def select(self, frame_bgr: np.ndarray, boxes, poses: list[PersonPose]) -> list[PersonPose | None]:
-        """For each dancer's tracked box (x, y, w, h) px, its pose among ``poses``, or None."""
+    def select(self, frame_bgr: np.ndarray, boxes, poses: list[PersonPose],
+               not_rivals: np.ndarray | None = None) -> list[PersonPose | None]:
+        """For each dancer's tracked box (x, y, w, h) px, its pose among ``poses``, or None. ``not_rivals``:
+        optional (n, n) bool, True at [i, j] where dancer j's score for a pose says nothing about whether it is
+        dancer i's (j waits hidden behind i with i's colours as memory); j is then left out of i's margin."""
         c = self.config
         n = len(boxes)
         chosen: list[PersonPose | None] = [None] * n
@@ -102,7 +105,11 @@ class PoseSelector:
         for i, k in zip(rows, cols):
             if np.isfinite(score[i, k]):
                 chosen[i] = poses[k]
-                rivals = np.delete(score[:, k], i)
+                counted = np.ones(n, bool)
+                counted[i] = False
+                if not_rivals is not None:
+                    counted &= ~np.asarray(not_rivals, bool)[i, :n]
+                rivals = score[counted, k]
                 rivals = rivals[np.isfinite(rivals)]
                 self.margins[i] = float(score[i, k] - rivals.max()) if rivals.size else float("inf")
                 h = hists[k]

@@ -236,11 +236,12 @@ class ReportedExtent:
 
     def _stacked_pairs(self, fg: np.ndarray, poses, margins):
         """Dancers standing straight behind one another, with the foreground beside them: yields (d, f, runs,
-        own) for each dancer d (tracked or occluded, no clear pose of its own) behind a tracked dancer f with a
-        clearly chosen pose (margin >= ``pose_margin``) that stands straight in front of it
+        own, front_runs) for each dancer d (tracked or occluded, no clear pose of its own) behind a tracked dancer f
+        with a clearly chosen pose (margin >= ``pose_margin``) that stands straight in front of it
         (:meth:`_straight_in_front`).
         ``runs``: how far (px) foreground runs on from f's box to the left and right at d's arm height
-        (:meth:`_run_reach`). ``own``: per side, whether that limb may be f's: f's skeleton reaches beyond its box
+        (:meth:`_run_reach`); ``front_runs``: the same at f's own arm height (``front_own_band``; else ``runs``).
+        ``own``: per side, whether that limb may be f's: f's skeleton reaches beyond its box
         there by more than ``stacked_arm_out`` x f's height, or one of its forearms points out to that side by as
         much (the detector often ends the arm short of the hand)."""
         c = self.config
@@ -259,13 +260,14 @@ class ReportedExtent:
                     continue
                 others = [o for o in self.dancers if o is not d and o is not f and o.status != OUT]
                 runs = self._run_reach(f.box, others, fg, limb_box=d.box)
+                front_runs = self._run_reach(f.box, others, fg) if c.front_own_band else runs
                 skel_left = max(0.0, fx - float(np.min(kp[seen, 0])))
                 skel_right = max(0.0, float(np.max(kp[seen, 0])) - fx - fw)
                 forearms = [kp[w, 0] - kp[e, 0] for e, w in ((3, 4), (6, 7)) if kp[e, 2] > 0 and kp[w, 2] > 0]
                 points = c.stacked_arm_out * fh
                 own = (skel_left > points or any(v < -points for v in forearms),
                        skel_right > points or any(v > points for v in forearms))
-                yield d, f, runs, own
+                yield d, f, runs, own, front_runs
 
     def _stacked_reach(self, i: int, pairs) -> tuple[float, float]:
         """Extent (px, left and right of its box) of dancer ``i`` hidden straight behind another dancer f
@@ -276,7 +278,7 @@ class ReportedExtent:
         c = self.config
         d = self.dancers[i]
         left = right = 0.0
-        for hidden, f, (run_left, run_right), own in pairs:
+        for hidden, f, (run_left, run_right), own, _ in pairs:
             if hidden is not d:
                 continue
             fx, _, fw, fh = f.box
@@ -292,13 +294,13 @@ class ReportedExtent:
 
     def _front_reach(self, i: int, pairs) -> tuple[float, float]:
         """Extent (px, left and right of its box) of dancer ``i`` standing straight in front of a dancer without a
-        pose (``pairs``: :meth:`_stacked_pairs`; :meth:`_pixel_reach` gives such a pair nothing): on a side where ``i``'s own
-        skeleton reaches or points out, the foreground running on from its box is taken as its arm, up to
-        ``stacked_max_reach`` x its height."""
+        pose (``pairs``: :meth:`_stacked_pairs`; :meth:`_pixel_reach` gives such a pair nothing): on a side where
+        ``i``'s own skeleton reaches or points out, the foreground running on from its box at its own arm height
+        (``front_runs``) is taken as its arm, up to ``stacked_max_reach`` x its height."""
         c = self.config
         d = self.dancers[i]
         left = right = 0.0
-        for _, front, (run_left, run_right), own in pairs:
+        for _, front, _, own, (run_left, run_right) in pairs:
             if front is not d:
                 continue
             longest = c.stacked_max_reach * d.box[3]

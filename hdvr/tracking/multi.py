@@ -171,6 +171,9 @@ class MultiTrackerConfig:
     pose_stack_overlap: float = 0.7  # ... and no dancer without a pose of its own stands straight behind or in front
     # (body cores overlapping more than this, intersection / smaller): a limb beside them may be either's
     pose_adaptation: float = 0.5  # ... by this fraction of the way per detector frame
+    waiting_not_rival: bool = True  # a dancer still waiting hidden behind another (``hidden_behind``) is no rival
+    # in the selection margin of that dancer's pose (:meth:`MultiDancerTracker.not_pose_rivals`): its memory is
+    # that dancer's colours (cached synthetic clips: see docs/tracking.md, session 18)
     group_shrink: float = 0.33  # in a group (body core overlapping another dancer's) the growth goes back at this
     # fraction of that rate: the detector's and the foreground's evidence of a limb flickers there from frame to
     # frame (a skeleton that reaches out in one frame and not in the next), and one frame without it says little.
@@ -199,6 +202,9 @@ class MultiTrackerConfig:
     # makes a limb on that side possibly its own
     front_extent: bool = True  # ... and the dancer in front of such a pair as far as foreground runs on from its
     # box on a side its own skeleton reaches or points to (:meth:`MultiDancerTracker._front_reach`)
+    front_own_band: bool = True  # ... that run scanned at the front dancer's own arm height (``pixel_band`` of its
+    # box), not at the hidden dancer's (sessions 11-17; a shorter dancer further back has its arms lower in the
+    # image, and the front dancer's arms then fell outside the rows scanned)
     grabcut_extent: bool = True  # ... and a dancer in a group as far as its own GrabCut segment (OpenCV's colour
     # segmentation, seeded from the skeletons) runs on from its box (:meth:`MultiDancerTracker._grabcut_reach`):
     # the foreground alone cannot tell whose limb crosses another dancer's body
@@ -298,6 +304,18 @@ class MultiDancerTracker(ReportedExtent):
         after :meth:`add_dancer`: Algorithm 1* stores the histogram of the start box, which then shows the dancer
         in front, and ``i`` may be taken for it."""
         return self.dancers[i].hidden_behind
+
+    def not_pose_rivals(self) -> np.ndarray:
+        """(N, N) bool, True at [i, j] where dancer j still waits hidden behind dancer i (``hidden_behind``), with
+        ``waiting_not_rival``: j's colours are then i's, so j matching a pose says nothing against its being i's,
+        and j is left out of i's selection margin (:class:`hdvr.pose2d.selection.PoseSelector`)."""
+        n = len(self.dancers)
+        out = np.zeros((n, n), bool)
+        if self.config.waiting_not_rival:
+            for d in self.dancers:
+                if d.hidden_behind is not None and d.status != OUT:
+                    out[d.hidden_behind, d.dancer_id] = True
+        return out
 
     def result(self, widen_hidden: bool = True) -> FrameResult:
         """Boxes of this frame, clipped to the frame (px); NaN for dancers out of the frame. ``widen_hidden``: the
