@@ -330,7 +330,7 @@ def test_the_front_dancer_s_arm_is_sought_at_its_own_arm_height():
     """Behind a tall dancer in front stands a much shorter one (further back): the front dancer's spread arm, at
     its own shoulder height, lies above the rows where the dancer behind has its arms. ``front_own_band`` scans the
     foreground beside the front dancer at the front dancer's arm height, and its box takes its arm; scanned at the
-    arm height of the dancer behind (sessions 11-17), the arm was missed (held-out seed 302 hip-hop trio: IDF1 0.85
+    arm height of the dancer behind (sessions 11-17), the arm was missed (synthetic seed 302 hip-hop trio: IDF1 0.85
     -> 0.98 with the change)."""
     frame = np.full((H, W, 3), (70, 150, 190), np.uint8)
     frame[250:] = (90, 90, 90)

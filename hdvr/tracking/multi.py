@@ -98,7 +98,7 @@ class MultiTrackerConfig:
     # fails, whatever the match: its memory is the start box, which shows the dancer in front, so the two match
     # their memories alike and the test would toss a coin, and the dancer in front is the one the video shows.
     # Cached synthetic clips (against the test by the match): seeds 201-212 and 151-199 mean IDF1 0.9769 -> 0.9771
-    # (seed 173 hip-hop trio 0.828 -> 0.978, seed 208 ballet 0.994 -> 0.867); held-out seeds 301-312 0.9650 ->
+    # (seed 173 hip-hop trio 0.828 -> 0.978, seed 208 ballet 0.994 -> 0.867); seeds 301-312 0.9650 ->
     # 0.9699, 9 -> 8 below 0.9 (seed 312 tango 0.592 -> 0.946: the visible dancer had failed in frame 1 and stood
     # still while the waiting one took its place); groups of 6-8 0.9468 -> 0.9515, 5 -> 1 switches; seeds 7-139 the
     # same. Exempting both dancers instead: 0.9710, 10 below, 4 switches (seed 181 tango 1.000 -> 0.750)
