@@ -101,14 +101,13 @@ class PoseSelector:
         if not np.isfinite(score).any():
             return chosen
         cost = np.where(np.isfinite(score), -score, 1e6)
+        ignored = np.zeros((n, n), bool) if not_rivals is None else np.asarray(not_rivals, bool)[:n, :n]
         rows, cols = linear_sum_assignment(cost)
         for i, k in zip(rows, cols):
             if np.isfinite(score[i, k]):
                 chosen[i] = poses[k]
-                counted = np.ones(n, bool)
+                counted = ~ignored[i]
                 counted[i] = False
-                if not_rivals is not None:
-                    counted &= ~np.asarray(not_rivals, bool)[i, :n]
                 rivals = score[counted, k]
                 rivals = rivals[np.isfinite(rivals)]
                 self.margins[i] = float(score[i, k] - rivals.max()) if rivals.size else float("inf")

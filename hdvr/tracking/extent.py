@@ -260,7 +260,7 @@ class ReportedExtent:
                     continue
                 others = [o for o in self.dancers if o is not d and o is not f and o.status != OUT]
                 runs = self._run_reach(f.box, others, fg, limb_box=d.box)
-                front_runs = self._run_reach(f.box, others, fg) if c.front_own_band else runs
+                front_runs = self._run_reach(f.box, others, fg) if c.front_own_band and c.front_extent else runs
                 skel_left = max(0.0, fx - float(np.min(kp[seen, 0])))
                 skel_right = max(0.0, float(np.max(kp[seen, 0])) - fx - fw)
                 forearms = [kp[w, 0] - kp[e, 0] for e, w in ((3, 4), (6, 7)) if kp[e, 2] > 0 and kp[w, 2] > 0]

@@ -232,11 +232,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             if run_detector:
                 tic = time.perf_counter()
                 # poses are chosen by the tracked extent, not by the amodal width guessed for hidden dancers
-                not_rivals = None
-                if tracker is not None:
-                    not_rivals = np.zeros((n, n), bool)
-                    k = len(tracker.dancers)
-                    not_rivals[:k, :k] = tracker.not_pose_rivals()
+                not_rivals = np.zeros((n, n), bool)  # padded like the boxes: dancers not started yet are no one's
+                k = len(tracker.dancers)
+                not_rivals[:k, :k] = tracker.not_pose_rivals()
                 chosen = selector.select(frame, _pad(tracker.result(widen_hidden=False), n).boxes, people, not_rivals)
                 for i, pose in enumerate(chosen):
                     if pose is not None:
