@@ -26,6 +26,7 @@ def test_reads_people_per_frame(tmp_path):
     assert 80 < x < 110 and w > 80
     assert two[0].body25().shape == (25, 3)
     assert det.detect(frame, 99) == []
+    assert det.supports_crops is False  # results are looked up by frame index: the tracker does not zoom into it
 
 
 def test_bad_folder(tmp_path):

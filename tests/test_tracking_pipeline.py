@@ -175,3 +175,56 @@ def test_fill_between_detections():
     assert out[1, 0, 0, 2] == 0.5
     assert out[3, 0, 0, 2] == 0 and np.isnan(out[3, 0, 0, 0])
     np.testing.assert_allclose(out[3, 0, 1], (15, 15, 0.5))
+
+
+class _CropDetector:
+    """A detector that finds a person only where it is given a crop: a small person, missed in the whole frame,
+    at (300, 210, 30, 75) px in frame pixels, plus a person cut by the crop's left side and one standing on the
+    body core of another dancer (``_CropDetector.on_other``)."""
+
+    small = (300.0, 210.0, 30.0, 75.0)
+    on_other = (200.0, 200.0, 40.0, 100.0)
+
+    def __init__(self):
+        self.calls = []
+
+    def detect(self, frame_bgr, frame_index):
+        self.calls.append(frame_bgr.shape)
+        if frame_bgr.shape[:2] == (480, 640):
+            return []
+        x0, y0 = self.origin
+        from hdvr.pose2d.base import PersonPose
+        people = []
+        for bx, by, bw, bh in (self.small, self.on_other):
+            kp = np.full((17, 3), 0.9, np.float32)
+            kp[:, 0], kp[:, 1] = bx + bw / 2, by + bh / 2
+            kp[:, 0] -= x0
+            kp[:, 1] -= y0
+            people.append(PersonPose(kp, (bx - x0, by - y0, bw, bh), 0.8))
+        kp = np.full((17, 3), 0.9, np.float32)
+        people.append(PersonPose(kp, (0.0, 40.0, 20.0, 80.0), 0.8))  # cut by the crop's left side
+        return people
+
+
+def test_zoom_detections_finds_a_small_dancer_in_a_crop_about_a_waiting_one():
+    """A dancer that started hidden is looked for again in a crop about its box (2.5 x its height square): what
+    the detector finds there comes back in frame pixels, keypoints included; a person the whole-frame detections
+    already hold, one cut by the crop's side, and one on another dancer's body core are left out."""
+    from hdvr.pose2d.base import PersonPose
+    from hdvr.tracking.pipeline import zoom_detections
+
+    frame = np.zeros((480, 640, 3), np.uint8)
+    waiting = (290.0, 200.0, 40.0, 100.0)  # a 100 px box: the crop spans x 185-435, y 125-375
+    detector = _CropDetector()
+    detector.origin = (185, 125)
+    found = zoom_detections(detector, frame, 3, [waiting], people=[])
+    assert [p.box for p in found] == [_CropDetector.small, _CropDetector.on_other]
+    assert detector.calls == [(250, 250, 3)]
+    np.testing.assert_allclose(found[0].keypoints[0, :2], (315.0, 247.5))
+    # clear of the other dancers' body cores only
+    found = zoom_detections(detector, frame, 3, [waiting], people=[], clear_of=[(195.0, 190.0, 50.0, 120.0)])
+    assert [p.box for p in found] == [_CropDetector.small]
+    # a person the whole frame's detections already hold is not added again
+    held = PersonPose(np.zeros((17, 3), np.float32), (301.0, 211.0, 30.0, 74.0), 0.9)
+    found = zoom_detections(detector, frame, 3, [waiting], people=[held], clear_of=[(195.0, 190.0, 50.0, 120.0)])
+    assert found == []

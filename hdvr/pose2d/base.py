@@ -33,7 +33,9 @@ class PersonPose:
 
 
 class PoseDetector(Protocol):
-    """Anything that finds people and their 2D keypoints in a BGR frame."""
+    """Anything that finds people and their 2D keypoints in a BGR frame. A detector may set ``supports_crops =
+    False`` when it cannot look at a crop of a frame (precomputed output); the tracking pipeline then does not ask
+    it to (:func:`hdvr.tracking.pipeline.zoom_detections`)."""
 
     name: str
 

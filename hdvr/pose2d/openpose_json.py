@@ -25,6 +25,7 @@ class OpenPoseJsonDetector:
         if not self.files:
             raise HDVRError(f"no OpenPose JSON files (*.json) in {self.folder}")
         self.name = f"openpose-json:{self.folder.name}"
+        self.supports_crops = False  # results are looked up by frame index: a crop of the frame finds nothing new
 
     def detect(self, frame_bgr: np.ndarray, frame_index: int) -> list[PersonPose]:
         if frame_index >= len(self.files):
