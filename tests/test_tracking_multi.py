@@ -687,3 +687,21 @@ def test_dancer_waiting_behind_yields_the_same_person_test_to_the_dancer_in_fron
             assert similarity[0] < similarity[1]
     assert status[True] == (TRACKED, OCCLUDED)
     assert status[False] == (OCCLUDED, TRACKED)
+
+
+def test_a_person_with_a_followed_dancer_s_colours_is_that_dancer_not_a_waiting_one(tmp_path):
+    """A person found about a dancer that waits hidden behind another (zoomed in) may be a dancer already
+    followed, whose box slipped off it: its colours match that dancer's memory. The waiting dancer coming out has
+    colours of its own; the dancer in front, whose colours the waiting dancer stores, counts as followed."""
+    third = FigureSpec((260.0, 130.0), (0.0, 0.0), 140.0, ((40, 170, 40), (200, 230, 200)), depth=0.5)
+    truth = render_clip(tmp_path / "clip.mp4", frames=50, size=(320, 240), specs=_stack_specs() + [third])
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    tracker = MultiDancerTracker(frames[0], truth.boxes[0])
+    front, hidden, beside = tracker.dancers
+    assert tracker.waiting() == [hidden] and hidden.hidden_behind == front.dancer_id
+    later = frames[49]  # the hidden dancer has walked out to the left, clear of the one in front
+    walker_box, beside_box, front_box = truth.boxes[49][1], truth.boxes[49][2], truth.boxes[49][0]
+    assert walker_box[0] + walker_box[2] < front_box[0] + 0.3 * front_box[2]
+    assert not tracker.looks_like_a_followed_dancer(later, tuple(walker_box))
+    assert tracker.looks_like_a_followed_dancer(later, tuple(beside_box))
+    assert tracker.looks_like_a_followed_dancer(later, tuple(front_box))

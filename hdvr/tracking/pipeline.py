@@ -252,13 +252,15 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 tic = time.perf_counter()
                 people = detector.detect(frame, t)
                 if zoom_hidden and tracker is not None and getattr(detector, "supports_crops", True):
-                    # a dancer that started hidden and still waits to come out is looked for again, zoomed in
-                    waiting = [d.box for d in tracker.dancers if d.hidden_behind is not None and d.status != OUT]
+                    # a dancer that started hidden and still waits to come out is looked for again, zoomed in; a
+                    # find with the colours of a dancer already followed is that dancer, not the waiting one
+                    waiting = tracker.waiting()
                     if waiting:
                         others = [d.box for d in tracker.dancers if d.hidden_behind is None and d.status != OUT]
-                        people = people + zoom_detections(
-                            detector, frame, t, waiting, people, clear_of=others,
+                        finds = zoom_detections(
+                            detector, frame, t, [d.box for d in waiting], people, clear_of=others,
                             core_aspect=tracker.config.core_aspect, overlap=tracker.config.overlap_threshold)
+                        people = people + [p for p in finds if not tracker.looks_like_a_followed_dancer(frame, p.box)]
                 stage["detect"] += time.perf_counter() - tic
             tic = time.perf_counter()
             stepped = None
