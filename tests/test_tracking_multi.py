@@ -705,3 +705,24 @@ def test_a_person_with_a_followed_dancer_s_colours_is_that_dancer_not_a_waiting_
     assert not tracker.looks_like_a_followed_dancer(later, tuple(walker_box))
     assert tracker.looks_like_a_followed_dancer(later, tuple(beside_box))
     assert tracker.looks_like_a_followed_dancer(later, tuple(front_box))
+
+
+def test_a_lost_dancer_does_not_jump_to_a_person_much_taller_than_its_box(tmp_path):
+    """A dancer lost for a few detector frames moves to a person detected nearby whose colours match its memory
+    (``_jump_to_detection``), but not to one more than ``jump_max_height_change`` (1.3) x taller than its box:
+    nearer the camera, that is someone else passing (hdvr synth seed 406 ballet: a 130 px dancer far back jumped to
+    a 193 px one walking in front of it, 2 identity switches)."""
+    figure = FigureSpec((160.0, 120.0), (0.0, 0.0), 120.0, ((40, 40, 210), (40, 200, 230)), depth=0.0)
+    truth = render_clip(tmp_path / "clip.mp4", frames=1, size=(320, 240), specs=[figure])
+    frame = next(iter(VideoReader(tmp_path / "clip.mp4")))
+    x, y, w, h = (float(v) for v in truth.boxes[0][0])
+    same_height = (x, y, w, h)
+    taller = (x - 0.2 * w, y - 0.45 * h, 1.4 * w, 1.45 * h)  # the figure, in a box 1.45 x its height
+    assert MultiTrackerConfig().jump_max_height_change == 1.3
+    for config, target, jumps in ((MultiTrackerConfig(jump_max_height_change=1.6), taller, True),
+                                  (MultiTrackerConfig(), taller, False), (MultiTrackerConfig(), same_height, True)):
+        tracker = MultiDancerTracker(frame, [(x, y, w, h)], config)
+        d = tracker.dancers[0]
+        d.box = (x + 70.0, y, w, h)  # its tracker drifted onto the background beside the figure
+        assert tracker._jump_to_detection(d, frame, [target]) == jumps, (config.jump_max_height_change, target)
+        assert (d.box == tuple(target)) == jumps

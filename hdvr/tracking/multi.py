@@ -131,6 +131,9 @@ class MultiTrackerConfig:
     adapt_max_foreground: float = 0.2  # ... and its columns beside the detection are background (at most this
     # fraction with a limb's worth of foreground: :meth:`_empty_around`)
     max_height_change: float = 1.6  # a detection this much taller or shorter than a dancer's box is not it
+    jump_max_height_change: float = 1.3  # ... nor, for a lost dancer jumping to a detection, one this much
+    # (:meth:`MultiDancerTracker._jump_to_detection`): nearer the camera, that is someone else passing (seed 406
+    # ballet: a 130 px dancer jumped to a 193 px one walking in front of it, 2 identity switches at 1.6)
     keep_hidden_feet: bool = True  # a detection ending on the body of a dancer in front keeps the box's bottom
     # when the box adapts to it (:meth:`MultiDancerTracker._feet_hidden`)
     box_adaptation: float = 0.3  # per confirming detection, weight of the detected box in a clear dancer's box
@@ -676,7 +679,7 @@ class MultiDancerTracker(ReportedExtent):
 
     def _jump_to_detection(self, d: DancerTrack, frame, detections) -> bool:
         """A dancer whose box has held no detected person for a while moves to a detected person nearby that
-        nobody else tracks, if that person's histogram matches the stored one clearly better than the box does
+        nobody else tracks, of about its height (within ``jump_max_height_change``), if that person's histogram matches the stored one clearly better than the box does
         (the tracker drifted off, e.g. in a jump). After ``long_lost_detections`` detector frames without a person
         on its box, the box's own match no longer counts (a box left on a static background keeps matching a
         memory learned there): the person is taken if it matches this dancer's memory at least
@@ -689,7 +692,8 @@ class MultiDancerTracker(ReportedExtent):
         best, best_score = None, c.relocate_min_similarity if long_lost else max(current + 0.1,
                                                                                   c.relocate_min_similarity)
         for det in detections:
-            if any(box_iou(det, o.box) > 0.3 for o in others) or not self._single_person(d, det):
+            if any(box_iou(det, o.box) > 0.3 for o in others) or \
+                    not self._single_person(d, det, c.jump_max_height_change):
                 continue
             off = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2]) - d.center
             if np.linalg.norm(off) > c.lost_search_heights * d.box[3]:
