@@ -131,9 +131,9 @@ class MultiTrackerConfig:
     adapt_max_foreground: float = 0.2  # ... and its columns beside the detection are background (at most this
     # fraction with a limb's worth of foreground: :meth:`_empty_around`)
     max_height_change: float = 1.6  # a detection this much taller or shorter than a dancer's box is not it
-    jump_max_height_change: float = 1.3  # ... nor, for a lost dancer jumping to a detection, one this much
-    # (:meth:`MultiDancerTracker._jump_to_detection`): nearer the camera, that is someone else passing (seed 406
-    # ballet: a 130 px dancer jumped to a 193 px one walking in front of it, 2 identity switches at 1.6)
+    jump_rivals: bool = True  # a lost dancer jumps to a detected person only if it matches its memory by
+    # ``reid_margin`` better than every other dancer's (:meth:`MultiDancerTracker._jump_to_detection`); without, a
+    # dancer at the back of hdvr synth seed 406 ballet jumped onto a lost dancer passing in front (2 switches)
     keep_hidden_feet: bool = True  # a detection ending on the body of a dancer in front keeps the box's bottom
     # when the box adapts to it (:meth:`MultiDancerTracker._feet_hidden`)
     box_adaptation: float = 0.3  # per confirming detection, weight of the detected box in a clear dancer's box
@@ -679,12 +679,14 @@ class MultiDancerTracker(ReportedExtent):
 
     def _jump_to_detection(self, d: DancerTrack, frame, detections) -> bool:
         """A dancer whose box has held no detected person for a while moves to a detected person nearby that
-        nobody else tracks, of about its height (within ``jump_max_height_change``), if that person's histogram matches the stored one clearly better than the box does
+        nobody else tracks, if that person's histogram matches the stored one clearly better than the box does
         (the tracker drifted off, e.g. in a jump). After ``long_lost_detections`` detector frames without a person
         on its box, the box's own match no longer counts (a box left on a static background keeps matching a
         memory learned there): the person is taken if it matches this dancer's memory at least
         ``relocate_min_similarity`` and better by ``reid_margin`` than the memory of every other dancer not held
-        by a detection of its own (one that is cannot be this person). Returns whether it moved."""
+        by a detection of its own (one that is cannot be this person). With ``jump_rivals``, at any time, it must
+        also match by ``reid_margin`` better than the memory of every other dancer showing its own colours (a
+        person that looks like another dancer is that dancer, lost too, not this one). Returns whether it moved."""
         c = self.config
         long_lost = d.missed >= c.long_lost_detections
         current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
@@ -692,8 +694,7 @@ class MultiDancerTracker(ReportedExtent):
         best, best_score = None, c.relocate_min_similarity if long_lost else max(current + 0.1,
                                                                                   c.relocate_min_similarity)
         for det in detections:
-            if any(box_iou(det, o.box) > 0.3 for o in others) or \
-                    not self._single_person(d, det, c.jump_max_height_change):
+            if any(box_iou(det, o.box) > 0.3 for o in others) or not self._single_person(d, det):
                 continue
             off = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2]) - d.center
             if np.linalg.norm(off) > c.lost_search_heights * d.box[3]:
@@ -702,6 +703,9 @@ class MultiDancerTracker(ReportedExtent):
             score = histogram_similarity(hist, d.stored_histogram)
             if long_lost and any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
                                  for o in others if not (o.status == TRACKED and o.missed == 0)):
+                continue
+            if c.jump_rivals and any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
+                                     for o in others if o.stored_histogram is not None and o.hidden_behind is None):
                 continue
             if score > best_score:
                 best, best_score = tuple(float(v) for v in det), score
