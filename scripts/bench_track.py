@@ -56,7 +56,7 @@ from hdvr.pose2d.models import default_pose_model  # noqa: E402
 from hdvr.pose2d.onnx_pose import OnnxPoseDetector  # noqa: E402
 from hdvr.layouts import COCO17_NAMES  # noqa: E402
 from hdvr.tracking.evaluation import body25_joints_of, evaluate_tracking, pck, visible_truth_keypoints  # noqa: E402
-from hdvr.tracking.pipeline import find_dancers, track_video  # noqa: E402
+from hdvr.tracking.pipeline import DancerStart, find_dancers, track_video  # noqa: E402
 from hdvr.tracking.testclips import default_crossing_specs, render_clip, troupe_specs  # noqa: E402
 from hdvr.video import VideoReader, VideoWriter  # noqa: E402
 from benchdoc import cpu_name  # noqa: E402
@@ -318,7 +318,6 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
     (``groups``: the crowd section's, rendered in folders of their own); a dancer the camera never sees is left out
     of the scoring."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
-    from hdvr.tracking.pipeline import DancerStart
 
     lines = [f"### Synthetic {'groups' if groups else 'dancers'} (hdvr.synth, 640x480, {seconds:g} s at 30 "
              f"frames/s, seed {', '.join(str(s) for s in seeds)})", "",
@@ -352,9 +351,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
                 truth = visible_truth_keypoints(gt_file["keypoints2d"], gt_file["visibility"])
             seen = np.isfinite(gt).all(axis=2).any(axis=0)  # a group may have dancers the camera never sees
             gt, truth, n = gt[:, seen], truth[:, seen], int(seen.sum())
-            first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(n)]
-            order = sorted(range(n), key=lambda i: first[i])  # track_video numbers dancers by start
-            starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
+            order, starts = _starts_from_truth(gt)
             for thr, detector in detectors.items():
                 run = track_video(clip / "video.mp4", tmp / "synth-out", detector=detector, starts=starts,
                                   detect_every=3, overlay=False, write=False)
@@ -380,6 +377,14 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
     return lines
 
 
+def _starts_from_truth(gt: np.ndarray):
+    """Each dancer's start (its first frame with a ground-truth box, and that box) from (T, N, 4) boxes of dancers
+    the camera sees: (order, starts), ``order`` the dancers' indices by start, as track_video numbers them."""
+    first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(gt.shape[1])]
+    order = sorted(range(gt.shape[1]), key=lambda i: first[i])
+    return order, [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
+
+
 #: hdvr synth clips where dancers start hidden behind others for long: (seed, clip index), clip index into
 #: SYNTH_CLIPS (seed 308 ballet: one dancer waits 30 frames; seed 304 ballet: two wait the whole clip)
 ZOOM_CLIPS = ((308, 5), (304, 5))
@@ -388,7 +393,6 @@ ZOOM_CLIPS = ((308, 5), (304, 5))
 def zoom_section(model, tmp, repeats: int = 3, seconds: float = 4.0) -> list[str]:
     """What looking again, zoomed in, for dancers that wait hidden behind another costs (``zoom_hidden``)."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
-    from hdvr.tracking.pipeline import DancerStart
 
     lines = ["### Zoomed-in search for waiting dancers: cost", "",
              "`track_video(zoom_hidden=True)` (default) against `False` (`hdvr track --no-zoom`) on hdvr synth clips "
@@ -405,9 +409,7 @@ def zoom_section(model, tmp, repeats: int = 3, seconds: float = 4.0) -> list[str
         with np.load(clip / "gt.npz") as gt_file:
             gt = np.transpose(gt_file["boxes"], (1, 0, 2)).astype(float)
         gt = gt[:, np.isfinite(gt).all(axis=2).any(axis=0)]
-        first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(gt.shape[1])]
-        order = sorted(range(gt.shape[1]), key=lambda i: first[i])
-        starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
+        order, starts = _starts_from_truth(gt)
         for zoom in (True, False):
             runs = [track_video(clip / "video.mp4", tmp / "zoom-out", detector=detector, starts=starts,
                                 detect_every=3, overlay=False, write=False, zoom_hidden=zoom) for _ in range(repeats)]

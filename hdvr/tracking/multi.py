@@ -53,7 +53,7 @@ from hdvr.tracking.appearance import (box_inside, box_iou, box_overlap, clip_box
                                       foreground_mask, histogram_similarity)
 from hdvr.tracking.extent import ReportedExtent
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
-from hdvr.tracking.state import OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, box_at, box_centre
+from hdvr.tracking.state import OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, body_core, box_at, box_centre
 
 
 
@@ -368,8 +368,7 @@ class MultiDancerTracker(ReportedExtent):
     # ------------------------------------------------------------------ helpers
     def _core(self, box):
         """The body core of a box: centred, at most ``core_aspect`` x its height wide (spread arms left out)."""
-        w = min(box[2], self.config.core_aspect * box[3])
-        return (box[0] + (box[2] - w) / 2, box[1], w, box[3])
+        return body_core(box, self.config.core_aspect)
 
     def _bodies_overlap(self, a, b) -> float:
         return box_overlap(self._core(a), self._core(b))
@@ -691,6 +690,10 @@ class MultiDancerTracker(ReportedExtent):
         long_lost = d.missed >= c.long_lost_detections
         current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
         others = [o for o in self.dancers if o is not d]
+        # dancers the person must match worse (by reid_margin) than this one: when long lost, those not held by a
+        # detection of their own; with jump_rivals, every one showing its own colours
+        rivals = [o for o in others if (long_lost and not (o.status == TRACKED and o.missed == 0))
+                  or (c.jump_rivals and o.hidden_behind is None)]
         best, best_score = None, c.relocate_min_similarity if long_lost else max(current + 0.1,
                                                                                   c.relocate_min_similarity)
         for det in detections:
@@ -701,11 +704,7 @@ class MultiDancerTracker(ReportedExtent):
                 continue
             hist = colour_histogram(frame, det)
             score = histogram_similarity(hist, d.stored_histogram)
-            if long_lost and any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
-                                 for o in others if not (o.status == TRACKED and o.missed == 0)):
-                continue
-            if c.jump_rivals and any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
-                                     for o in others if o.stored_histogram is not None and o.hidden_behind is None):
+            if any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin for o in rivals):
                 continue
             if score > best_score:
                 best, best_score = tuple(float(v) for v in det), score
@@ -1071,7 +1070,7 @@ class MultiDancerTracker(ReportedExtent):
         it by IoU 0.5, or more), and it learns its colours from it, replacing those of the dancer in front: it no
         longer waits."""
         c = self.config
-        waiting = [d for d in self.dancers if d.hidden_behind is not None and d.status != OUT]
+        waiting = self.waiting()
         if not waiting:
             return
         dets = [tuple(float(v) for v in det) for det in detections]

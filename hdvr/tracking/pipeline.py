@@ -33,6 +33,7 @@ from hdvr.progress import progress
 from hdvr.tracking.appearance import box_iou, box_overlap
 from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
 from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
+from hdvr.tracking.state import body_core
 from hdvr.video import VideoReader, VideoWriter
 
 
@@ -139,12 +140,6 @@ def fill_between_detections(keypoints: np.ndarray, detected: np.ndarray, max_gap
     return out
 
 
-def _core(box, aspect: float):
-    """The body core of an (x, y, w, h) box: centred, at most ``aspect`` x its height wide."""
-    w = min(box[2], aspect * box[3])
-    return (box[0] + (box[2] - w) / 2, box[1], w, box[3])
-
-
 def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int, boxes, people: list,
                     clear_of=(), side: float = 2.5, core_aspect: float = 0.3, overlap: float = 0.05) -> list:
     """People found by running ``detector`` again on square crops of ``frame`` about ``boxes`` ((x, y, w, h) px;
@@ -170,8 +165,9 @@ def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int,
             cut = ((bx <= 2 and x0 > 0) or (by <= 2 and y0 > 0) or (bx + bw >= x1 - x0 - 2 and x1 < width)
                    or (by + bh >= y1 - y0 - 2 and y1 < height))
             box = (bx + x0, by + y0, bw, bh)
+            core = body_core(box, core_aspect)
             if cut or any(box_iou(box, q.box) > 0.5 for q in list(people) + found) or \
-                    any(box_overlap(_core(box, core_aspect), _core(o, core_aspect)) > overlap for o in clear_of):
+                    any(box_overlap(core, body_core(o, core_aspect)) > overlap for o in clear_of):
                 continue
             kp = np.array(p.keypoints, np.float32, copy=True)
             kp[:, 0] += x0

@@ -90,3 +90,10 @@ def box_at(centre, box) -> tuple[float, float, float, float]:
 def box_centre(box) -> np.ndarray:
     """Centre (x, y) px of an (x, y, w, h) box."""
     return np.array([box[0] + box[2] / 2, box[1] + box[3] / 2], float)
+
+
+def body_core(box, aspect: float) -> tuple[float, float, float, float]:
+    """The body core of an (x, y, w, h) px box: centred, at most ``aspect`` x its height wide (spread arms left
+    out); overlaps between dancers are tested on it."""
+    w = min(box[2], aspect * box[3])
+    return (box[0] + (box[2] - w) / 2, box[1], w, box[3])
