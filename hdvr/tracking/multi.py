@@ -114,6 +114,12 @@ class MultiTrackerConfig:
     reid_held_overlap: float = 0.5  # ... whose body core this one overlaps less than this (intersection / smaller)
     reid_beside_unheld: bool = True  # ... or tracked dancers without a detection whose memory it matches worse
     reid_unheld_height: float = 1.3  # ... if its height is within this factor of the occluded dancer's box
+    reid_from_holder: bool = True  # a detection a tracked dancer holds goes to an occluded dancer whose memory it
+    # matches at least ``reid_similarity`` and by ``reid_margin`` better than the holder's, if it stands in front of
+    # the holder (bottom ``pixel_front`` lower): the holder's box shows the occluded dancer, come out in front of
+    # it, and the holder is occluded from then on (:meth:`_reidentify`, :meth:`_handed_over`).
+    # hdvr synth seed 503 ballet: a dancer at the back took the colours of the dancer walking out in front of it,
+    # which was never re-identified; IDF1 0.633 -> 0.723
     emerge_hidden_starts: bool = True  # a dancer started mostly hidden (``hidden_start_overlap``) takes the first
     # detection that comes out clear of every other dancer, that no other dancer takes and that does not look like
     # the dancer hiding it (:meth:`MultiDancerTracker._emerge`)
@@ -492,11 +498,7 @@ class MultiDancerTracker(ReportedExtent):
                 d.stored_box, d.stored_frame = d.box, t
                 continue
             if self._failed(d, frame, overlapping, boxes):
-                d.status = OCCLUDED
-                d.occluded_since = t
-                d.occlusion_end = self._predict_overlap_end(d, [self.dancers[j] for j in overlapping], t)
-                d.box = self._predicted_box(d, t)
-                d.confidence = 0.0
+                self._occlude(d, [self.dancers[j] for j in overlapping])
             else:
                 group.append(d)
         if detections is not None and c.adapt_in_groups:
@@ -534,6 +536,16 @@ class MultiDancerTracker(ReportedExtent):
                 d.growth = np.zeros(4)
             d.last_status = d.status
         return self.result()
+
+    def _occlude(self, d: DancerTrack, front: list[DancerTrack]) -> None:
+        """Dancer ``d`` is hidden behind the dancers ``front`` from this frame on: its box is predicted from its
+        last clear one, and it is looked for again from the predicted end of the overlap."""
+        t = self.frame_index
+        d.status = OCCLUDED
+        d.occluded_since = t
+        d.occlusion_end = self._predict_overlap_end(d, front, t)
+        d.box = self._predicted_box(d, t)
+        d.confidence = 0.0
 
     def _leaves_frame(self, d: DancerTrack, frame, t: int) -> bool:
         """Whether dancer ``d``, whose box is partly out of the frame, has left it: its box is less than
@@ -1132,6 +1144,12 @@ class MultiDancerTracker(ReportedExtent):
         tracked dancers that hold no detection, e.g. one hidden behind a third dancer, when its height is within
         ``reid_unheld_height`` of the occluded dancer's box; those dancers' memories are then rivals too: the
         detection must match the occluded dancer's memory by ``reid_margin`` better than theirs.
+        With ``reid_from_holder``, a detection that a tracked dancer takes is a candidate too when it stands in
+        front of that dancer and its colours match an occluded dancer's memory at least ``reid_similarity`` and by
+        ``reid_margin`` better than the holder's (:meth:`_handed_over`; the holder is then one more rival); if the
+        occluded dancer takes it, the
+        holder, whose box showed that dancer in front of it, is occluded (:meth:`_occlude`) and forgets the size
+        ratio it may have learned from the detection.
         Matched by :meth:`_histogram_matches` against the other occluded dancers' memories."""
         c = self.config
         if not occluded:
@@ -1139,6 +1157,8 @@ class MultiDancerTracker(ReportedExtent):
         tracked = [o for o in self.dancers if o.status == TRACKED]
         dets = [tuple(float(v) for v in det) for det in detections or []]
         claims = self._claims(dets)
+        handed = self._handed_over(frame, occluded, dets, claims) if c.reid_from_holder else {}
+        claims = {i: k for i, k in claims.items() if dets[k] not in handed}
         free = [det for k, det in enumerate(dets) if k not in claims.values()]
 
         box_rivals: dict[tuple, list[DancerTrack]] = {}
@@ -1150,6 +1170,9 @@ class MultiDancerTracker(ReportedExtent):
             rivals = []
             for o in tracked:
                 if self._bodies_overlap(box, o.box) <= c.overlap_threshold:
+                    continue
+                if is_detection and handed.get(tuple(box)) is o:
+                    rivals.append(o)
                     continue
                 if is_detection and c.reid_beside_held and o.dancer_id in claims:
                     if self._bodies_overlap(box, dets[claims[o.dancer_id]]) < c.reid_held_overlap:
@@ -1177,3 +1200,32 @@ class MultiDancerTracker(ReportedExtent):
             candidates.append((d, boxes + ([own] if clear(own, False) else [])))
         for d, box, score in self._histogram_matches(frame, candidates, occluded, box_rivals):
             self._take(d, box, score)
+            holder = handed.get(tuple(box))
+            if holder is not None and holder.status == TRACKED:
+                holder.size_ratio = None
+                self._occlude(holder, [d])
+
+    def _handed_over(self, frame, occluded: list[DancerTrack], dets: list, claims: dict[int, int]) -> dict:
+        """Detections (x, y, w, h px) that the tracked dancers in ``claims`` (dancer id -> index into ``dets``)
+        take but that show an occluded dancer standing in front of the holder: their colours match its memory at
+        least ``reid_similarity`` and by ``reid_margin`` better than the holder's memory, and their bottom is
+        ``pixel_front`` x the holder's height lower in the image than the holder's box. Detection -> holder.
+        Dancers whose memory is not their own yet (``hidden_behind``) neither hold nor are looked for so."""
+        c = self.config
+        looked_for = [d for d in occluded if d.hidden_behind is None and d.stored_histogram is not None]
+        handed = {}
+        for i, k in claims.items():
+            holder = self.dancers[i]
+            if not looked_for or holder.hidden_behind is not None or holder.stored_histogram is None:
+                continue
+            x, y, w, h = dets[k]
+            if y + h <= holder.box[1] + holder.box[3] + c.pixel_front * holder.box[3]:
+                continue  # not in front of the holder: the holder's outline, partly covered by someone passing
+            hist = colour_histogram(frame, dets[k])
+            if hist is None:
+                continue
+            own = histogram_similarity(hist, holder.stored_histogram)
+            if any(histogram_similarity(hist, d.stored_histogram) >= max(c.reid_similarity, own + c.reid_margin)
+                   for d in looked_for):
+                handed[dets[k]] = holder
+        return handed
