@@ -577,7 +577,7 @@ def test_occluded_dancer_reidentified_beside_a_dancer_without_a_detection():
         still, hidden = tracker.dancers
         hidden.status, hidden.box = OCCLUDED, beside
         assert tracker.config.overlap_threshold < tracker._bodies_overlap(detection, still.box) < 0.5
-        tracker._reidentify(later, [hidden], [hidden_box], [detection])
+        tracker._reidentify(later, [hidden], [hidden_box], [detection])  # its own tracker: on the background
         if hidden.status == TRACKED:
             assert hidden.box == detection
         return hidden.status == TRACKED
@@ -595,7 +595,8 @@ def test_an_occluded_dancer_takes_the_detection_of_a_dancer_whose_box_shows_it()
     that dancer's detection, hands the detection over (``reid_from_holder``): the occluded dancer is tracked
     there, the dancer at the back is occluded and forgets the size ratio it learned from the detection (hdvr synth
     seed 503 ballet). Not when the detection matches the holder's memory as well, nor when it stands level with the
-    holder (hdvr synth seed 301 hip-hop), nor with the option off."""
+    holder (hdvr synth seed 301 hip-hop), nor when it covers only part of the holder's width (seed 609 ballet), nor
+    with the option off."""
     rng = np.random.default_rng(3)
     background = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
     back_box, hidden_box = (200.0, 120.0, 50.0, 160.0), (420.0, 100.0, 60.0, 200.0)
@@ -606,13 +607,13 @@ def test_an_occluded_dancer_takes_the_detection_of_a_dancer_whose_box_shows_it()
     later = background.copy()
     later[100:300, 195:255] = (30, 40, 210)
 
-    def handed_over(config=None, start=first, detection=detection) -> bool:
+    def handed_over(config=None, start=first, detection=detection, later=later) -> bool:
         tracker = MultiDancerTracker(start, [back_box, hidden_box], config)
         back, hidden = tracker.dancers
         hidden.status, hidden.box = OCCLUDED, (260.0, 100.0, 60.0, 200.0)  # predicted on its way there
         back.size_ratio = np.array([0.7, 0.7])
         assert tracker._claims([detection]) == {back.dancer_id: 0}  # the blue dancer's box holds it
-        tracker._reidentify(later, [hidden], [hidden.box], [detection])
+        tracker._reidentify(later, [hidden], [hidden_box], [detection])  # its own tracker: on the background
         assert (hidden.status == TRACKED) == (back.status == OCCLUDED)
         if hidden.status == TRACKED:
             assert hidden.box == detection and back.size_ratio is None
@@ -625,6 +626,12 @@ def test_an_occluded_dancer_takes_the_detection_of_a_dancer_whose_box_shows_it()
     assert not handed_over(start=alike)
     # a person level with the dancer at the back is that dancer, with someone passing in front of part of it
     assert not handed_over(detection=(195.0, 80.0, 60.0, 200.0))
+    # a person in front that covers half the width of its body core: the dancer at the back shows beside it
+    beside = background.copy()
+    beside[100:300, 220:280] = (30, 40, 210)
+    assert not handed_over(detection=(220.0, 100.0, 60.0, 200.0), later=beside)
+    assert handed_over(MultiTrackerConfig(reid_holder_covered=0.5), detection=(220.0, 100.0, 60.0, 200.0),
+                       later=beside)
     assert MultiTrackerConfig().reid_from_holder
 
 

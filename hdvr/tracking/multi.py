@@ -119,7 +119,9 @@ class MultiTrackerConfig:
     # the holder (bottom ``pixel_front`` lower): the holder's box shows the occluded dancer, come out in front of
     # it, and the holder is occluded from then on (:meth:`_reidentify`, :meth:`_handed_over`).
     # hdvr synth seed 503 ballet: a dancer at the back took the colours of the dancer walking out in front of it,
-    # which was never re-identified; IDF1 0.633 -> 0.723
+    # which was never re-identified; IDF1 0.633 -> 0.723 (seed 308 flamenco 0.883 -> 0.983)
+    reid_holder_covered: float = 0.9  # ... and if it spans this much of the width of the holder's body core (the
+    # holder is hidden behind it, not beside it; seed 609 ballet, 0.78 of it: 0.940 -> 0.727 with 2 switches)
     emerge_hidden_starts: bool = True  # a dancer started mostly hidden (``hidden_start_overlap``) takes the first
     # detection that comes out clear of every other dancer, that no other dancer takes and that does not look like
     # the dancer hiding it (:meth:`MultiDancerTracker._emerge`)
@@ -1145,7 +1147,7 @@ class MultiDancerTracker(ReportedExtent):
         ``reid_unheld_height`` of the occluded dancer's box; those dancers' memories are then rivals too: the
         detection must match the occluded dancer's memory by ``reid_margin`` better than theirs.
         With ``reid_from_holder``, a detection that a tracked dancer takes is a candidate too when it stands in
-        front of that dancer and its colours match an occluded dancer's memory at least ``reid_similarity`` and by
+        front of that dancer, covering its body core's width, and its colours match an occluded dancer's memory at least ``reid_similarity`` and by
         ``reid_margin`` better than the holder's (:meth:`_handed_over`; the holder is then one more rival); if the
         occluded dancer takes it, the
         holder, whose box showed that dancer in front of it, is occluded (:meth:`_occlude`) and forgets the size
@@ -1208,8 +1210,9 @@ class MultiDancerTracker(ReportedExtent):
     def _handed_over(self, frame, occluded: list[DancerTrack], dets: list, claims: dict[int, int]) -> dict:
         """Detections (x, y, w, h px) that the tracked dancers in ``claims`` (dancer id -> index into ``dets``)
         take but that show an occluded dancer standing in front of the holder: their colours match its memory at
-        least ``reid_similarity`` and by ``reid_margin`` better than the holder's memory, and their bottom is
-        ``pixel_front`` x the holder's height lower in the image than the holder's box. Detection -> holder.
+        least ``reid_similarity`` and by ``reid_margin`` better than the holder's memory, their bottom is
+        ``pixel_front`` x the holder's height lower in the image than the holder's box, and they span
+        ``reid_holder_covered`` of the width of the holder's body core. Detection -> holder.
         Dancers whose memory is not their own yet (``hidden_behind``) neither hold nor are looked for so."""
         c = self.config
         looked_for = [d for d in occluded if d.hidden_behind is None and d.stored_histogram is not None]
@@ -1221,6 +1224,9 @@ class MultiDancerTracker(ReportedExtent):
             x, y, w, h = dets[k]
             if y + h <= holder.box[1] + holder.box[3] + c.pixel_front * holder.box[3]:
                 continue  # not in front of the holder: the holder's outline, partly covered by someone passing
+            cx, _, cw, _ = self._core(holder.box)
+            if min(cx + cw, x + w) - max(cx, x) < c.reid_holder_covered * cw:
+                continue  # the holder shows beside the person: not hidden behind it
             hist = colour_histogram(frame, dets[k])
             if hist is None:
                 continue
