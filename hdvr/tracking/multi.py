@@ -1147,11 +1147,10 @@ class MultiDancerTracker(ReportedExtent):
         ``reid_unheld_height`` of the occluded dancer's box; those dancers' memories are then rivals too: the
         detection must match the occluded dancer's memory by ``reid_margin`` better than theirs.
         With ``reid_from_holder``, a detection that a tracked dancer takes is a candidate too when it stands in
-        front of that dancer, covering its body core's width, and its colours match an occluded dancer's memory at least ``reid_similarity`` and by
-        ``reid_margin`` better than the holder's (:meth:`_handed_over`; the holder is then one more rival); if the
-        occluded dancer takes it, the
-        holder, whose box showed that dancer in front of it, is occluded (:meth:`_occlude`) and forgets the size
-        ratio it may have learned from the detection.
+        front of that dancer, covering its body core's width, and its colours match an occluded dancer's memory at
+        least ``reid_similarity`` and by ``reid_margin`` better than the holder's (:meth:`_handed_over`; the holder
+        is then one more rival); if the occluded dancer takes it, the holder, whose box showed that dancer in front
+        of it, is occluded (:meth:`_occlude`) and forgets the size ratio it may have learned from the detection.
         Matched by :meth:`_histogram_matches` against the other occluded dancers' memories."""
         c = self.config
         if not occluded:
@@ -1204,7 +1203,7 @@ class MultiDancerTracker(ReportedExtent):
             self._take(d, box, score)
             holder = handed.get(tuple(box))
             if holder is not None and holder.status == TRACKED:
-                holder.size_ratio = None
+                holder.size_ratio = None  # perhaps learned from that detection
                 self._occlude(holder, [d])
 
     def _handed_over(self, frame, occluded: list[DancerTrack], dets: list, claims: dict[int, int]) -> dict:
@@ -1217,9 +1216,11 @@ class MultiDancerTracker(ReportedExtent):
         c = self.config
         looked_for = [d for d in occluded if d.hidden_behind is None and d.stored_histogram is not None]
         handed = {}
+        if not looked_for:
+            return handed
         for i, k in claims.items():
             holder = self.dancers[i]
-            if not looked_for or holder.hidden_behind is not None or holder.stored_histogram is None:
+            if holder.hidden_behind is not None or holder.stored_histogram is None:
                 continue
             x, y, w, h = dets[k]
             if y + h <= holder.box[1] + holder.box[3] + c.pixel_front * holder.box[3]:
