@@ -25,16 +25,21 @@ markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown 
    ground truth; per clip also the fraction of detector frames in which each dancer got a pose, at two detector
    confidence thresholds, and PCK@0.2 of each dancer's keypoints against its visible ground-truth keypoints.
    ``crowd``: the same for groups of ``--synth-crowd`` dancers (default 6 and 8) in four group genres.
+   To measure one tracker rule on many clips: render them once into ``--clips-dir``, run once with the defaults
+   and once with ``--tracker-config NAME=VALUE`` (e.g. ``reid_from_holder=false``), each with ``--per-clip-json``,
+   and list the clips that changed with ``scripts/compare_track_runs.py``.
 
 Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--seeds 6] [--seed-start 0]
                                       [--synth-seeds 7,11,23] [--synth-thresholds 0.3,0.15]
                                       [--sections speed,real,memory,detector,identity,troupe,synth]
-                                      [--markdown docs/benchmarks.md]
+                                      [--clips-dir DIR] [--tracker-config NAME=VALUE,...]
+                                      [--per-clip-json FILE] [--markdown docs/benchmarks.md]
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import platform
@@ -56,6 +61,7 @@ from hdvr.pose2d.models import default_pose_model  # noqa: E402
 from hdvr.pose2d.onnx_pose import OnnxPoseDetector  # noqa: E402
 from hdvr.layouts import COCO17_NAMES  # noqa: E402
 from hdvr.tracking.evaluation import body25_joints_of, evaluate_tracking, pck, visible_truth_keypoints  # noqa: E402
+from hdvr.tracking.multi import MultiTrackerConfig  # noqa: E402
 from hdvr.tracking.pipeline import DancerStart, find_dancers, track_video  # noqa: E402
 from hdvr.tracking.testclips import default_crossing_specs, render_clip, troupe_specs  # noqa: E402
 from hdvr.video import VideoReader, VideoWriter  # noqa: E402
@@ -104,6 +110,12 @@ def main() -> int:
                         "clips (crowd: ballet, hip-hop, flamenco and tap groups, beyond hdvr synth's 1-4)")
     parser.add_argument("--synth-thresholds", default="0.3,0.15",
                         help="comma-separated detector confidence thresholds for the synthetic clips (synth)")
+    parser.add_argument("--clips-dir", type=Path, help="render the synthetic clips (synth, crowd) into this folder "
+                        "and reuse those already there (default: a fresh temporary folder)")
+    parser.add_argument("--tracker-config", default="", help="synth, crowd: MultiTrackerConfig fields to change, "
+                        "e.g. reid_from_holder=false,reid_margin=0.25 (to measure one rule against the defaults)")
+    parser.add_argument("--per-clip-json", type=Path, help="synth, crowd: also write each clip's IDF1, ID switches "
+                        "and hidden starts to this JSON file (compare two runs with scripts/compare_track_runs.py)")
     args = parser.parse_args()
     if args.quick:
         args.repeats, args.frames = 1, 150
@@ -138,14 +150,22 @@ def main() -> int:
         lines += identity_section(args, model, tmp, troupe=True)
     if "zoom" in sections:
         lines += zoom_section(model, tmp, repeats=args.repeats)
+    config = parse_tracker_config(args.tracker_config)
+    per_clip: dict = {}
     if "synth" in sections:
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
-                               thresholds=[float(v) for v in args.synth_thresholds.split(",")])
+                               thresholds=[float(v) for v in args.synth_thresholds.split(",")],
+                               clips_dir=args.clips_dir, config=config, per_clip=per_clip)
     if "crowd" in sections:
         counts = [int(v) for v in args.synth_crowd.split(",")]
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")],
-                               clips=[(genre, n) for n in counts for genre in CROWD_GENRES], groups=True)
+                               clips=[(genre, n) for n in counts for genre in CROWD_GENRES], groups=True,
+                               clips_dir=args.clips_dir, config=config, per_clip=per_clip)
+    if args.per_clip_json:
+        args.per_clip_json.parent.mkdir(parents=True, exist_ok=True)
+        args.per_clip_json.write_text(json.dumps({"tracker_config": args.tracker_config, "clips": per_clip},
+                                                 indent=1))
     load_after = os.getloadavg()
     lines.append(f"Load average at the end: {load_after[0]:.1f}.")
     text = "\n".join(lines) + "\n"
@@ -311,12 +331,36 @@ SYNTH_CLIPS = (("tango", 2), ("swing", 2), ("hip_hop", 3), ("flamenco", 3), ("hi
 CROWD_GENRES = ("ballet", "hip_hop", "flamenco", "tap")  # group genres rendered with --synth-crowd dancers
 
 
+def parse_tracker_config(text: str) -> MultiTrackerConfig:
+    """MultiTrackerConfig with the fields named in ``text`` ("name=value,name=value") changed; a value takes the
+    type of the field's default (booleans: true/false/1/0)."""
+    config = MultiTrackerConfig()
+    changes = {}
+    for item in filter(None, (v.strip() for v in text.split(","))):
+        name, sep, value = item.partition("=")
+        if not sep or not hasattr(config, name):
+            raise SystemExit(f"bench_track: --tracker-config: {item!r} is not FIELD=VALUE of MultiTrackerConfig")
+        default = getattr(config, name)
+        if isinstance(default, bool):
+            if value.lower() not in ("true", "false", "1", "0"):
+                raise SystemExit(f"bench_track: --tracker-config: {name} takes true or false, got {value!r}")
+            changes[name] = value.lower() in ("true", "1")
+        elif isinstance(default, (int, float)):
+            changes[name] = type(default)(value)
+        else:
+            raise SystemExit(f"bench_track: --tracker-config: {name} cannot be set from the command line")
+    return dataclasses.replace(config, **changes)
+
+
 def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3, 0.15),
-                  clips=SYNTH_CLIPS, groups: bool = False) -> list[str]:
+                  clips=SYNTH_CLIPS, groups: bool = False, clips_dir: Path | None = None,
+                  config: MultiTrackerConfig | None = None, per_clip: dict | None = None) -> list[str]:
     """Tracking on rendered hdvr.synth clips against their MOT ground truth (boxes from gt.npz) and PCK@0.2 of the
     per-dancer keypoints against their visible ground-truth keypoints. ``clips``: (genre, dancers) per clip
     (``groups``: the crowd section's, rendered in folders of their own); a dancer the camera never sees is left out
-    of the scoring."""
+    of the scoring. ``clips_dir``: where the clips are rendered (one already there, with its gt.npz, is reused);
+    ``config``: the tracker's; ``per_clip``: filled with "seed:index[:groups]:threshold" -> IDF1, switches,
+    hidden starts."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
 
     lines = [f"### Synthetic {'groups' if groups else 'dancers'} (hdvr.synth, 640x480, {seconds:g} s at 30 "
@@ -341,11 +385,12 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
     joints = body25_joints_of(COCO17_NAMES)
     detectors = {thr: OnnxPoseDetector(model, input_size=480, threads=2, score_threshold=thr) for thr in thresholds}
     for seed in seeds:
-        root = tmp / f"synth-{seed}{'-groups' if groups else ''}"  # clip folders are named by index
+        root = (clips_dir or tmp) / f"synth-{seed}{'-groups' if groups else ''}"  # clip folders named by index
         for index, (genre, n) in enumerate(clips):
             spec = ClipSpec(index, seed, genre, n, seconds)
-            make_clip(root, spec, render=True)
             clip = root / spec.name
+            if clips_dir is None or not (clip / "gt.npz").is_file() or not (clip / "video.mp4").is_file():
+                make_clip(root, spec, render=True)
             with np.load(clip / "gt.npz") as gt_file:
                 gt = np.transpose(gt_file["boxes"], (1, 0, 2)).astype(float)  # (T, N, 4)
                 truth = visible_truth_keypoints(gt_file["keypoints2d"], gt_file["visibility"])
@@ -354,7 +399,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
             order, starts = _starts_from_truth(gt)
             for thr, detector in detectors.items():
                 run = track_video(clip / "video.mp4", tmp / "synth-out", detector=detector, starts=starts,
-                                  detect_every=3, overlay=False, write=False)
+                                  detect_every=3, overlay=False, write=False, config=config)
                 tracked = run.boxes[:, np.argsort(order)]
                 keypoints = run.keypoints[:, np.argsort(order)]
                 s = evaluate_tracking(gt, tracked)
@@ -368,6 +413,10 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
                              f"{' / '.join(f'{p:.2f}' for p in pcks)} | {pooled:.3f} | {pooled25:.3f} | "
                              f"{loose.idf1:.3f} / {loose.id_switches} | {len(run.hidden_starts)} |")
                 scores[thr].append((s.idf1, s.id_switches, len(run.hidden_starts)))
+                if per_clip is not None:
+                    per_clip[f"{seed}:{index}{':groups' if groups else ''}:{thr:g}"] = {
+                        "genre": genre, "dancers": n, "idf1": s.idf1, "id_switches": s.id_switches,
+                        "hidden_starts": len(run.hidden_starts)}
                 print(lines[-1], file=sys.stderr)
     lines.append("")
     for thr, rows in scores.items():

@@ -1,0 +1,58 @@
+"""scripts/compare_track_runs.py and bench_track's --tracker-config: measuring one tracker rule on many clips."""
+
+import importlib.util
+import json
+from pathlib import Path
+
+import pytest
+
+SCRIPTS = Path(__file__).resolve().parents[1] / "scripts"
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(name, SCRIPTS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _run_file(path, clips):
+    path.write_text(json.dumps({"tracker_config": "", "clips": clips}))
+    return path
+
+
+def _clip(idf1, switches, genre="ballet"):
+    return {"genre": genre, "dancers": 4, "idf1": idf1, "id_switches": switches, "hidden_starts": 0}
+
+
+def test_changed_clips_and_summaries(tmp_path, capsys):
+    compare = _load("compare_track_runs")
+    before = _run_file(tmp_path / "a.json", {"503:5:0.3": _clip(0.633, 0), "308:3:0.3": _clip(0.883, 0, "flamenco"),
+                                             "301:4:0.3": _clip(0.885, 1, "hip_hop"), "201:0:0.3": _clip(1.0, 0)})
+    after = _run_file(tmp_path / "b.json", {"503:5:0.3": _clip(0.723, 0), "308:3:0.3": _clip(0.8832, 0, "flamenco"),
+                                            "301:4:0.3": _clip(0.885, 0, "hip_hop"), "999:0:0.3": _clip(0.5, 3)})
+    changed = compare.changed_clips(compare.load_clips(before), compare.load_clips(after))
+    assert [k for k, _, _ in changed] == ["503:5:0.3", "301:4:0.3"]  # 308 moved by less than the tolerance
+    assert compare.main([str(before), str(after)]) == 0
+    out = capsys.readouterr().out
+    assert "503:5:0.3 ballet: IDF1 0.633 -> 0.723, switches 0 -> 0" in out
+    assert "3 clips, mean IDF1 0.8003, 3 below 0.9, 1 switches on 1 clips" in out  # only clips both runs hold
+
+
+def test_a_file_that_is_not_a_run_is_a_one_line_error(tmp_path):
+    compare = _load("compare_track_runs")
+    bad = tmp_path / "bad.json"
+    bad.write_text("[1, 2]")
+    with pytest.raises(SystemExit, match="is not a bench_track --per-clip-json file"):
+        compare.load_clips(bad)
+
+
+def test_tracker_config_overrides_take_the_field_types(monkeypatch):
+    monkeypatch.syspath_prepend(str(SCRIPTS))  # bench_track imports its neighbour benchdoc
+    bench = _load("bench_track")
+    config = bench.parse_tracker_config("reid_from_holder=false, reid_margin=0.25,max_occlusion_frames=90")
+    assert config.reid_from_holder is False and config.reid_margin == 0.25 and config.max_occlusion_frames == 90
+    assert bench.parse_tracker_config("") == bench.MultiTrackerConfig()
+    for bad in ("no_such_rule=1", "reid_from_holder", "reid_from_holder=maybe"):
+        with pytest.raises(SystemExit, match="--tracker-config"):
+            bench.parse_tracker_config(bad)
