@@ -391,11 +391,8 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
             clip = root / spec.name
             if clips_dir is None or not (clip / "gt.npz").is_file() or not (clip / "video.mp4").is_file():
                 make_clip(root, spec, render=True)
-            with np.load(clip / "gt.npz") as gt_file:
-                gt = np.transpose(gt_file["boxes"], (1, 0, 2)).astype(float)  # (T, N, 4)
-                truth = visible_truth_keypoints(gt_file["keypoints2d"], gt_file["visibility"])
-            seen = np.isfinite(gt).all(axis=2).any(axis=0)  # a group may have dancers the camera never sees
-            gt, truth, n = gt[:, seen], truth[:, seen], int(seen.sum())
+            gt, truth = _seen_truth(clip)
+            n = gt.shape[1]
             order, starts = _starts_from_truth(gt)
             for thr, detector in detectors.items():
                 run = track_video(clip / "video.mp4", tmp / "synth-out", detector=detector, starts=starts,
@@ -424,6 +421,16 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
         lines += [f"Threshold {thr:g}: {_idf1_summary(rows)}; clips where a dancer starts hidden: "
                   f"{_idf1_summary(hidden)}; the others: {_idf1_summary(clear)}.", ""]
     return lines
+
+
+def _seen_truth(clip: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Ground truth of an hdvr synth clip folder for the dancers the camera sees (a group may have some it never
+    does): (T, N, 4) amodal boxes x, y, w, h px (NaN where absent) and (T, N, 25, 3) visible keypoints."""
+    with np.load(clip / "gt.npz") as gt_file:
+        gt = np.transpose(gt_file["boxes"], (1, 0, 2)).astype(float)
+        truth = visible_truth_keypoints(gt_file["keypoints2d"], gt_file["visibility"])
+    seen = np.isfinite(gt).all(axis=2).any(axis=0)
+    return gt[:, seen], truth[:, seen]
 
 
 def _starts_from_truth(gt: np.ndarray):
@@ -455,9 +462,7 @@ def zoom_section(model, tmp, repeats: int = 3, seconds: float = 4.0) -> list[str
         spec = ClipSpec(index, seed, genre, n, seconds)
         make_clip(tmp / f"zoom-{seed}", spec, render=True)
         clip = tmp / f"zoom-{seed}" / spec.name
-        with np.load(clip / "gt.npz") as gt_file:
-            gt = np.transpose(gt_file["boxes"], (1, 0, 2)).astype(float)
-        gt = gt[:, np.isfinite(gt).all(axis=2).any(axis=0)]
+        gt, _ = _seen_truth(clip)
         order, starts = _starts_from_truth(gt)
         for zoom in (True, False):
             runs = [track_video(clip / "video.mp4", tmp / "zoom-out", detector=detector, starts=starts,

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from hdvr.tracking.state import TRACKED, DancerTrack, box_at, box_centre
+from hdvr.tracking.state import TRACKED, DancerTrack, box_at, box_centre, stands_in_front
 
 
 def test_box_at_keeps_the_size_and_centres_it():
@@ -27,3 +27,10 @@ def test_recent_motion_is_the_mean_step_of_the_recent_centres():
     assert np.allclose(d.recent_motion, 0.0)  # fewer than 2 centres: no motion
     d.centers = [np.array([10.0, 5.0]), np.array([12.0, 5.0]), np.array([16.0, 8.0])]
     assert np.allclose(d.recent_motion, [3.0, 1.5])
+
+
+def test_a_box_stands_in_front_when_its_bottom_is_lower_by_the_margin_of_the_other_s_height():
+    behind = (100.0, 100.0, 40.0, 200.0)  # bottom at 300 px; margin 0.05 x 200 px = 10 px
+    assert stands_in_front((90.0, 120.0, 60.0, 191.0), behind, 0.05)  # bottom 311
+    assert not stands_in_front((90.0, 120.0, 60.0, 190.0), behind, 0.05)  # bottom 310: level
+    assert not stands_in_front(behind, (90.0, 120.0, 60.0, 191.0), 0.05)

@@ -26,7 +26,8 @@ import numpy as np
 
 from hdvr.pose2d.selection import skeleton_mask
 from hdvr.tracking.appearance import box_overlap
-from hdvr.tracking.state import OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, box_at, box_centre
+from hdvr.tracking.state import (OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, box_at, box_centre,
+                                 stands_in_front)
 
 
 class ReportedExtent:
@@ -152,8 +153,7 @@ class ReportedExtent:
         ``pixel_front`` x ``d``'s height lower in the image."""
         c = self.config
         overlap = c.pose_stack_overlap if overlap is None else overlap
-        return (self._bodies_overlap(f.box, d.box) > overlap
-                and f.box[1] + f.box[3] > d.box[1] + d.box[3] + c.pixel_front * d.box[3])
+        return self._bodies_overlap(f.box, d.box) > overlap and stands_in_front(f.box, d.box, c.pixel_front)
 
     def _pixel_reach(self, d: DancerTrack, fg: np.ndarray) -> tuple[float, float]:
         """How far (px) foreground pixels (``fg``: :func:`hdvr.tracking.appearance.foreground_mask`) run on from

@@ -53,7 +53,8 @@ from hdvr.tracking.appearance import (box_inside, box_iou, box_overlap, clip_box
                                       foreground_mask, histogram_similarity)
 from hdvr.tracking.extent import ReportedExtent
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
-from hdvr.tracking.state import OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, body_core, box_at, box_centre
+from hdvr.tracking.state import (OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, body_core, box_at, box_centre,
+                                 stands_in_front)
 
 
 
@@ -837,7 +838,7 @@ class MultiDancerTracker(ReportedExtent):
             if o is d or o.status == OUT:
                 continue
             ox, oy, ow, oh = o.box
-            if oy + oh > box_bottom + c.pixel_front * d.box[3] and ox <= cx <= ox + ow and oy <= bottom <= oy + oh:
+            if stands_in_front(o.box, d.box, c.pixel_front) and ox <= cx <= ox + ow and oy <= bottom <= oy + oh:
                 return (x, y, w, box_bottom - y)
         return detection
 
@@ -1222,9 +1223,9 @@ class MultiDancerTracker(ReportedExtent):
             holder = self.dancers[i]
             if holder.hidden_behind is not None or holder.stored_histogram is None:
                 continue
-            x, y, w, h = dets[k]
-            if y + h <= holder.box[1] + holder.box[3] + c.pixel_front * holder.box[3]:
+            if not stands_in_front(dets[k], holder.box, c.pixel_front):
                 continue  # not in front of the holder: the holder's outline, partly covered by someone passing
+            x, _, w, _ = dets[k]
             cx, _, cw, _ = self._core(holder.box)
             if min(cx + cw, x + w) - max(cx, x) < c.reid_holder_covered * cw:
                 continue  # the holder shows beside the person: not hidden behind it

@@ -97,3 +97,9 @@ def body_core(box, aspect: float) -> tuple[float, float, float, float]:
     out); overlaps between dancers are tested on it."""
     w = min(box[2], aspect * box[3])
     return (box[0] + (box[2] - w) / 2, box[1], w, box[3])
+
+
+def stands_in_front(front, behind, margin: float) -> bool:
+    """Whether the person in (x, y, w, h) px box ``front`` stands in front of the one in ``behind``: its box bottom
+    is ``margin`` x ``behind``'s height lower in the image (the floor rises towards the horizon)."""
+    return front[1] + front[3] > behind[1] + behind[3] + margin * behind[3]
