@@ -126,6 +126,11 @@ class MultiTrackerConfig:
     emerge_hidden_starts: bool = True  # a dancer started mostly hidden (``hidden_start_overlap``) takes the first
     # detection that comes out clear of every other dancer, that no other dancer takes and that does not look like
     # the dancer hiding it (:meth:`MultiDancerTracker._emerge`)
+    emerge_relative: bool = True  # ... or that looks like it by ``reid_margin`` less than that dancer's own box
+    # does: a person dressed partly alike is someone else (seed 504 flamenco: the dancer behind wore the front
+    # dancer's colours in other places, 0.61-0.78 match; IDF1 0.728 -> 0.975)
+    emerge_keeps_height: bool = True  # a dancer coming out on a detection shorter than its box keeps the box's
+    # height (the detector sees the part already out; seed 705 tango, a couple in hold: 0.533 -> 0.812)
     emerge_distance: float = 1.0  # x the box height: how far from the dancer's box centre that detection may be
     hidden_front_rival: bool = True  # while such a dancer waits, the dancer hiding it is one more rival when it is
     # re-identified (its memory shows that dancer: a patch of it would match). Cached synthetic clips: seeds 201-212
@@ -145,6 +150,12 @@ class MultiTrackerConfig:
     # dancer at the back of hdvr synth seed 406 ballet jumped onto a lost dancer passing in front (2 switches)
     keep_hidden_feet: bool = True  # a detection ending on the body of a dancer in front keeps the box's bottom
     # when the box adapts to it (:meth:`MultiDancerTracker._feet_hidden`)
+    feet_of_detections_only: bool = True  # ... a detection only: a dancer taken again on a patch of its own box
+    # size (cone search, its own tracker) keeps the patch as it is; a patch a little up the motion direction grew
+    # by that much each time (seed 304 ballet: 134 -> 185 px in two relocations, then 2 identity switches)
+    occluded_keeps_size: bool = True  # an occluded dancer's predicted box has the size its box had when it was
+    # hidden, not that of its last clear box (a couple in hold is never clear: seed 803 tango had shrunk by a third
+    # walking away; IDF1 0.671 with 2 switches -> 0.996 with none)
     box_adaptation: float = 0.3  # per confirming detection, weight of the detected box in a clear dancer's box
     max_box_offset: float = 0.25  # box centre at most this x its size from the tracker's centre
     max_person_width: float = 2.0  # a detection wider than this x a dancer's box height is not that dancer alone
@@ -542,10 +553,14 @@ class MultiDancerTracker(ReportedExtent):
 
     def _occlude(self, d: DancerTrack, front: list[DancerTrack]) -> None:
         """Dancer ``d`` is hidden behind the dancers ``front`` from this frame on: its box is predicted from its
-        last clear one, and it is looked for again from the predicted end of the overlap."""
+        last clear one (with the size of its box now, ``occluded_keeps_size``), and it is looked for again from the
+        predicted end of the overlap."""
         t = self.frame_index
         d.status = OCCLUDED
         d.occluded_since = t
+        if self.config.occluded_keeps_size:
+            cx, cy = box_centre(d.stored_box)
+            d.stored_box = (cx - d.box[2] / 2, cy - d.box[3] / 2, d.box[2], d.box[3])
         d.occlusion_end = self._predict_overlap_end(d, front, t)
         d.box = self._predicted_box(d, t)
         d.confidence = 0.0
@@ -1060,11 +1075,15 @@ class MultiDancerTracker(ReportedExtent):
                 best, best_score = box, score
         if best is None or (best_score < c.relocate_min_similarity and not force):
             return  # stay occluded; try again next frame
-        self._take(d, best, best_score)
+        detected = {tuple(float(v) for v in det) for det in detections or []}
+        self._take(d, best, best_score, seen_part=best in detected)
 
-    def _take(self, d: DancerTrack, box, score: float) -> None:
-        """Dancer ``d`` is seen again at ``box`` (histogram similarity ``score``): tracking resumes there."""
-        box = self._feet_hidden(d, box)
+    def _take(self, d: DancerTrack, box, score: float, seen_part: bool = True) -> None:
+        """Dancer ``d`` is seen again at ``box`` (histogram similarity ``score``): tracking resumes there.
+        ``seen_part``: ``box`` is a detection, showing only what is not hidden (:meth:`_feet_hidden`); False for
+        a patch of the dancer's own box size (``feet_of_detections_only``)."""
+        if seen_part or not self.config.feet_of_detections_only:
+            box = self._feet_hidden(d, box)
         d.tracker.center = (box[0] + box[2] / 2, box[1] + box[3] / 2)
         d.offset = np.zeros(2)
         d.box = tuple(float(v) for v in box)
@@ -1081,9 +1100,10 @@ class MultiDancerTracker(ReportedExtent):
         dancers not waiting so), whose body core overlaps no other dancer's (``overlap_threshold``), whose centre
         lies within ``emerge_distance`` box heights of the dancer's box centre, whose height is within
         ``max_height_change`` of the box's, and whose colours match the hiding dancer's memory less than
-        ``reid_similarity``; the nearest such detection. The dancer's box moves there (unless it already overlaps
-        it by IoU 0.5, or more), and it learns its colours from it, replacing those of the dancer in front: it no
-        longer waits."""
+        ``reid_similarity`` (or, ``emerge_relative``, by ``reid_margin`` less than the hiding dancer's box does
+        now); the nearest such detection. The dancer's box moves there (unless it already overlaps it by IoU 0.5,
+        or more; keeping its height when the detection is shorter, ``emerge_keeps_height``), and it learns its
+        colours from it, replacing those of the dancer in front: it no longer waits."""
         c = self.config
         waiting = self.waiting()
         if not waiting:
@@ -1095,6 +1115,12 @@ class MultiDancerTracker(ReportedExtent):
         for d in waiting:
             front = self.dancers[d.hidden_behind]
             centre = np.asarray(box_centre(d.box))
+            unlike_front = c.reid_similarity
+            if c.emerge_relative and front.status == TRACKED:
+                front_hist = colour_histogram(frame, front.box)
+                if front_hist is not None:
+                    unlike_front = max(unlike_front, histogram_similarity(front_hist, front.stored_histogram)
+                                       - c.reid_margin)
             best, best_distance = None, c.emerge_distance * d.box[3]
             for k, det in enumerate(dets):
                 if k in taken or not 1 / c.max_height_change <= det[3] / d.box[3] <= c.max_height_change \
@@ -1107,7 +1133,7 @@ class MultiDancerTracker(ReportedExtent):
                 if k not in histograms:
                     histograms[k] = colour_histogram(frame, det)
                 hist = histograms[k]
-                if hist is None or histogram_similarity(hist, front.stored_histogram) >= c.reid_similarity:
+                if hist is None or histogram_similarity(hist, front.stored_histogram) >= unlike_front:
                     continue
                 best, best_distance = (k, hist), distance
             if best is None:
@@ -1115,7 +1141,10 @@ class MultiDancerTracker(ReportedExtent):
             k, hist = best
             taken.add(k)
             if box_iou(d.box, dets[k]) < 0.5 or d.status != TRACKED:  # the box is elsewhere: move it there
-                self._take(d, dets[k], 1.0)
+                det = dets[k]
+                if self.config.emerge_keeps_height and det[3] < d.box[3]:
+                    det = (det[0], det[1], det[2], d.box[3])  # the detector sees the part not hidden yet
+                self._take(d, det, 1.0)
                 d.tracker.init(frame, self._core(d.box))
             d.stored_histogram, d.hidden_behind = hist, None
 
@@ -1201,7 +1230,7 @@ class MultiDancerTracker(ReportedExtent):
                      or 1 / c.reid_unheld_height <= box[3] / d.box[3] <= c.reid_unheld_height]
             candidates.append((d, boxes + ([own] if clear(own, False) else [])))
         for d, box, score in self._histogram_matches(frame, candidates, occluded, box_rivals):
-            self._take(d, box, score)
+            self._take(d, box, score, seen_part=tuple(float(v) for v in box) in dets)
             holder = handed.get(tuple(box))
             if holder is not None and holder.status == TRACKED:
                 holder.size_ratio = None  # perhaps learned from that detection
