@@ -115,6 +115,11 @@ class MultiTrackerConfig:
     reid_held_overlap: float = 0.5  # ... whose body core this one overlaps less than this (intersection / smaller)
     reid_beside_unheld: bool = True  # ... or tracked dancers without a detection whose memory it matches worse
     reid_unheld_height: float = 1.3  # ... if its height is within this factor of the occluded dancer's box
+    reid_height_change: float = 2.0  # re-identification takes no detection this much taller or shorter than the
+    # dancer's box, its bottom made good where a dancer in front hides it (:meth:`_feet_hidden`). A box about a
+    # dancer's head and spread arms, a third of its height, took hdvr synth seed 901 swing's dancer in front for the
+    # rest of the clip (IDF1 0.750 -> 1.000); 1.6, as elsewhere, also lost seed 208 tango (0.983 -> 0.879: a couple
+    # walking away, whose boxes had not shrunk yet)
     reid_from_holder: bool = True  # a detection a tracked dancer holds goes to an occluded dancer whose memory it
     # matches at least ``reid_similarity`` and by ``reid_margin`` better than the holder's, if it stands in front of
     # the holder (bottom ``pixel_front`` lower): the holder's box shows the occluded dancer, come out in front of
@@ -1167,7 +1172,8 @@ class MultiDancerTracker(ReportedExtent):
 
         Candidates of each occluded dancer are its own tracker's box and the detections near its predicted or its
         last clear position (within ``2 min_search_radius`` box heights) that no tracked dancer takes
-        (:meth:`_claims`), if clear of every tracked dancer's body core. A detection may also overlap tracked
+        (:meth:`_claims`), within ``reid_height_change`` of its box height (bottom made good behind a dancer in
+        front), if clear of every tracked dancer's body core. A detection may also overlap tracked
         dancers that each hold a detection of their own in that assignment, if its body core overlaps the
         core of theirs less than ``reid_held_overlap`` (``reid_beside_held``): then it is a second person beside
         them, not them nor a box around them (a dancer in front of a partner's spread arm; taking any detection
@@ -1228,6 +1234,8 @@ class MultiDancerTracker(ReportedExtent):
             # figures, or a figure and its shadow, is taller)
             boxes = [box for box in boxes if tuple(box) not in box_rivals
                      or 1 / c.reid_unheld_height <= box[3] / d.box[3] <= c.reid_unheld_height]
+            boxes = [box for box in boxes if 1 / c.reid_height_change
+                     <= self._feet_hidden(d, box)[3] / d.box[3] <= c.reid_height_change]
             candidates.append((d, boxes + ([own] if clear(own, False) else [])))
         for d, box, score in self._histogram_matches(frame, candidates, occluded, box_rivals):
             self._take(d, box, score, seen_part=tuple(float(v) for v in box) in dets)
