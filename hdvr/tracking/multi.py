@@ -1147,7 +1147,7 @@ class MultiDancerTracker(ReportedExtent):
             taken.add(k)
             if box_iou(d.box, dets[k]) < 0.5 or d.status != TRACKED:  # the box is elsewhere: move it there
                 det = dets[k]
-                if self.config.emerge_keeps_height and det[3] < d.box[3]:
+                if c.emerge_keeps_height and det[3] < d.box[3]:
                     det = (det[0], det[1], det[2], d.box[3])  # the detector sees the part not hidden yet
                 self._take(d, det, 1.0)
                 d.tracker.init(frame, self._core(d.box))
