@@ -1238,7 +1238,7 @@ class MultiDancerTracker(ReportedExtent):
                      <= self._feet_hidden(d, box)[3] / d.box[3] <= c.reid_height_change]
             candidates.append((d, boxes + ([own] if clear(own, False) else [])))
         for d, box, score in self._histogram_matches(frame, candidates, occluded, box_rivals):
-            self._take(d, box, score, seen_part=tuple(float(v) for v in box) in dets)
+            self._take(d, box, score, seen_part=tuple(box) in dets)
             holder = handed.get(tuple(box))
             if holder is not None and holder.status == TRACKED:
                 holder.size_ratio = None  # perhaps learned from that detection

@@ -24,7 +24,8 @@ class DancerTrack:
     status: str = TRACKED
     stored_histogram: np.ndarray | None = None
     stored_velocity: np.ndarray = field(default_factory=lambda: np.zeros(2))
-    stored_box: tuple[float, float, float, float] | None = None  # last box seen clear of others
+    stored_box: tuple[float, float, float, float] | None = None  # last box seen clear of others (from the frame
+    # it is occluded on, with the size its box had then: ``MultiTrackerConfig.occluded_keeps_size``)
     stored_frame: int = 0  # frame of stored_box
     occlusion_end: int = -1  # predicted frame where the overlap ends
     occluded_since: int = -1
