@@ -58,6 +58,7 @@ import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
 from hdvr.pose2d.models import default_pose_model  # noqa: E402
+from hdvr.pipeline import WEAK_DETECTION_THRESHOLD  # noqa: E402
 from hdvr.pose2d.onnx_pose import OnnxPoseDetector  # noqa: E402
 from hdvr.layouts import COCO17_NAMES  # noqa: E402
 from hdvr.tracking.evaluation import body25_joints_of, evaluate_tracking, pck, visible_truth_keypoints  # noqa: E402
@@ -90,6 +91,15 @@ def peak_rss_mb(video: Path, out: Path, boxes: str) -> float:
     return float(proc.stdout.strip().splitlines()[-1])
 
 
+WEAK_THRESHOLD = WEAK_DETECTION_THRESHOLD  # set by --weak-threshold
+
+
+def tracking_detector(model, size: int = 480, score_threshold: float = 0.3) -> OnnxPoseDetector:
+    """The detector a tracking section runs, with weak finds as ``hdvr track`` has them (``--weak-threshold``)."""
+    return OnnxPoseDetector(model, input_size=size, threads=2, score_threshold=score_threshold,
+                            weak_threshold=min(WEAK_THRESHOLD, score_threshold))
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
@@ -116,7 +126,12 @@ def main() -> int:
                         "e.g. reid_from_holder=false,reid_margin=0.25 (to measure one rule against the defaults)")
     parser.add_argument("--per-clip-json", type=Path, help="synth, crowd: also write each clip's IDF1, ID switches "
                         "and hidden starts to this JSON file (compare two runs with scripts/compare_track_runs.py)")
+    parser.add_argument("--weak-threshold", type=float, default=WEAK_DETECTION_THRESHOLD,
+                        help="the tracking sections' detectors report people scoring from this up to their threshold "
+                             "as weak finds (default %(default)s, as hdvr track; 0.3 turns them off)")
     args = parser.parse_args()
+    global WEAK_THRESHOLD
+    WEAK_THRESHOLD = args.weak_threshold
     if args.quick:
         args.repeats, args.frames = 1, 150
     sections = set(args.sections.split(","))
@@ -184,7 +199,7 @@ def speed_section(args, clip, truth, boxes, model, tmp, speed) -> list[str]:
              "wall ms/frame decode / detect / track / select / overlay | MOTA | IDF1 | HOTA | ID switches |",
              "|---|---|---|---|---|---|---|---|---|"]
     for size, every in SETTINGS:
-        detector = OnnxPoseDetector(model, input_size=size, threads=2)
+        detector = tracking_detector(model, size)
         fps, cpu_fps, stages, run = [], [], None, None
         for _ in range(args.repeats):
             run = track_video(clip, tmp / f"out-{size}-{every}", detector=detector, boxes=boxes,
@@ -209,11 +224,11 @@ def real_section(model, tmp) -> list[str]:
     lines = []
     real = tmp / "two-people-640.mp4"
     scaled_copy(REAL_VIDEO, real)
-    reference_detector = OnnxPoseDetector(model, input_size=640, threads=2)
+    reference_detector = tracking_detector(model, 640)
     starts = find_dancers(real, reference_detector, 2)
     runs = {}
     for size, every in SETTINGS:
-        detector = reference_detector if size == 640 else OnnxPoseDetector(model, input_size=size, threads=2)
+        detector = reference_detector if size == 640 else tracking_detector(model, size)
         runs[(size, every)] = track_video(real, tmp / f"real-{size}-{every}", detector=detector, starts=starts,
                                           detect_every=every, overlay=False)
     ref = runs[SETTINGS[0]]
@@ -299,7 +314,7 @@ def _score_row(dancers: int, mode: str, scores: list) -> str:
 def identity_section(args, model, tmp, frames: int = 150, troupe: bool = False) -> list[str]:
     """Identity through crossings of 2-4 procedural dancers (``troupe``: groups of 6 and 8 in two rows,
     :func:`hdvr.tracking.testclips.troupe_specs`), tracker alone and with the default detector."""
-    detector = OnnxPoseDetector(model, input_size=480, threads=2)
+    detector = tracking_detector(model)
     seeds = range(args.seed_start, args.seed_start + args.seeds)
     counts = (6, 8) if troupe else (2, 3, 4)
     what = "groups of 6 and 8 dancers in two rows" if troupe else "2-4 dancers"
@@ -383,7 +398,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     scores = {thr: [] for thr in thresholds}  # (IDF1, switches, dancers starting hidden) per clip
     joints = body25_joints_of(COCO17_NAMES)
-    detectors = {thr: OnnxPoseDetector(model, input_size=480, threads=2, score_threshold=thr) for thr in thresholds}
+    detectors = {thr: tracking_detector(model, score_threshold=thr) for thr in thresholds}
     for seed in seeds:
         root = (clips_dir or tmp) / f"synth-{seed}{'-groups' if groups else ''}"  # clip folders named by index
         for index, (genre, n) in enumerate(clips):
@@ -456,7 +471,7 @@ def zoom_section(model, tmp, repeats: int = 3, seconds: float = 4.0) -> list[str
              f"median of {repeats} runs; IDF1 against the amodal ground truth.", "",
              "| seed | clip | dancers starting hidden | zoom | detect ms/frame | frames/s wall | IDF1 | ID switches |",
              "|---|---|---|---|---|---|---|---|"]
-    detector = OnnxPoseDetector(model, input_size=480, threads=2, score_threshold=0.3)
+    detector = tracking_detector(model)
     for seed, index in ZOOM_CLIPS:
         genre, n = SYNTH_CLIPS[index]
         spec = ClipSpec(index, seed, genre, n, seconds)

@@ -52,6 +52,23 @@ def test_finds_both_people_on_real_frame(pose_model, shared_data):
         assert body.shape == (25, 3)
 
 
+def test_weak_finds_come_on_top_of_the_same_sure_ones(pose_model, shared_data):
+    """With a weak threshold, the sure people are those found without it; the others score between the two
+    thresholds and are marked weak."""
+    frame = _frame(shared_data / "video" / "two-people-tree" / "video.mp4", 130)  # scores 0.23 and 0.10 there
+    sure = OnnxPoseDetector(pose_model, input_size=480, threads=2).detect(frame)
+    both = OnnxPoseDetector(pose_model, input_size=480, threads=2, weak_threshold=0.05).detect(frame)
+    assert [p.box for p in both if not p.weak] == [p.box for p in sure]
+    assert not any(p.weak for p in sure)
+    weak = [p for p in both if p.weak]
+    assert weak and all(0.05 <= p.score < 0.3 for p in weak)
+
+
+def test_weak_threshold_above_the_sure_one_is_refused(pose_model):
+    with pytest.raises(HDVRError, match="weak detection threshold"):
+        OnnxPoseDetector(pose_model, input_size=480, weak_threshold=0.5)
+
+
 def test_single_person_portrait_view(pose_model, shared_data):
     frame = _frame(shared_data / "video" / "multiview-single" / "videos" / "cam01.mp4", 0)
     people = OnnxPoseDetector(pose_model, input_size=320, threads=2).detect(frame)

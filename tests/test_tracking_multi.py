@@ -915,3 +915,52 @@ def test_an_occluded_dancer_is_not_reidentified_on_a_detection_of_part_of_its_he
     assert reidentified(MultiTrackerConfig(reid_height_change=4.0))
     # the legs hidden behind a dancer standing in front, who holds its own detection: the box is the upper body
     assert reidentified(front=(240.0, 150.0, 100.0, 220.0))
+
+
+def test_a_weak_detection_updates_a_followed_dancer_but_finds_no_one_again(tmp_path):
+    """``weak_detections``: a detection the detector is less sure of adapts the box of a clear dancer that no sure
+    detection is on, as a sure one does (not with the option off), but never re-identifies an occluded dancer, as
+    the same detection does when sure."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=67, specs=default_crossing_specs(num_figures=2, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+
+    def box_after(weak, config=None, sure=False):
+        tracker = MultiDancerTracker(frames[0], truth.boxes[0], config)
+        tracker.step(frames[1], [tuple(b) for b in truth.boxes[1]])  # box and detection sizes agree
+        x, y, w, h = tracker.dancers[0].box
+        taller = (x - 4, y - 10, w + 8, h + 20)  # the same person, seen with its arms up
+        tracker.step(frames[2], [tracker.dancers[0].box] if sure else [], weak_detections=[taller] if weak else None)
+        return tracker.dancers[0].box
+
+    still = box_after(weak=False)
+    assert box_after(weak=True)[3] > still[3] + 3
+    assert box_after(weak=True, config=MultiTrackerConfig(weak_detections=False)) == still
+    assert box_after(weak=True, sure=True)[3] < still[3] + 1  # the sure detection on it comes first
+
+    front, back = (tuple(float(v) for v in b) for b in truth.boxes[66])
+
+    def reidentified(sure: list, weak: list) -> bool:
+        tracker = MultiDancerTracker(frames[0], truth.boxes[0])
+        for t in range(1, 66):
+            tracker.step(frames[t], [tuple(b) for b in truth.boxes[t]])
+        d0 = tracker.dancers[0]
+        d0.status, d0.occlusion_end = OCCLUDED, 10 ** 6  # the front dancer lost, e.g. after a sudden stop
+        tracker.step(frames[66], sure, weak_detections=weak)
+        return d0.status == TRACKED and d0.box == front
+
+    assert reidentified([back, front], [])
+    assert not reidentified([back], [front])
+
+
+def test_a_dancer_in_a_group_without_a_sure_detection_takes_its_weak_one(tmp_path):
+    """In a group, weak detections are assigned after the sure ones, to the dancers that got none: a dancer takes
+    its weak detection, and a weak one never displaces a sure one."""
+    render_clip(tmp_path / "clip.mp4", frames=2, specs=default_crossing_specs(num_figures=2, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    a, b = (300.0, 120.0, 80.0, 280.0), (330.0, 200.0, 60.0, 200.0)
+    wide = (285.0, 118.0, 140.0, 284.0)  # dancer 0 with spread arms
+    sure_b = (332.0, 198.0, 58.0, 204.0)
+    tracker = MultiDancerTracker(frames[0], [a, b])
+    assert tracker._unambiguous_detections([sure_b], [wide, (331.0, 190.0, 62.0, 215.0)]) == {0: wide, 1: sure_b}
+    tracker._adapt_in_group(frames[1], tracker.dancers, [sure_b], [wide])
+    assert tracker.dancers[0].box[2] > a[2] + 20

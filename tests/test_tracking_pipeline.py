@@ -270,3 +270,26 @@ def test_a_dancer_the_whole_frame_misses_is_found_zoomed_in_as_it_comes_out(tmp_
     assert crops[False] == 0 and crops[True] > 0
     assert scores[True].idf1 >= 0.85 and scores[True].id_switches == 0, scores[True]  # missed until it comes out
     assert scores[True].idf1 > scores[False].idf1 + 0.15, scores
+
+
+def test_weak_finds_start_no_dancer_but_give_a_followed_one_its_pose(clip, tmp_path, capsys):
+    """A person the detector is unsure of (``PersonPose.weak``) is not counted when looking for the dancers to
+    follow; a dancer followed gets that person's pose all the same."""
+    from hdvr.pose2d.base import PersonPose
+    from hdvr.tracking.pipeline import find_dancers, track_video
+
+    path, truth = clip
+
+    class SecondDancerWeak:
+        name = "second-weak"
+
+        def detect(self, frame_bgr, t):
+            return [PersonPose(np.full((17, 3), 0.9, np.float32), tuple(float(v) for v in truth.boxes[t][i]),
+                               0.9 if i == 0 else 0.25, weak=i == 1) for i in range(2)]
+
+    starts = find_dancers(path, SecondDancerWeak(), 2, seconds=1.0)
+    assert len(starts) == 1 and "found 1 people" in capsys.readouterr().err
+    run = track_video(path, tmp_path / "out", detector=SecondDancerWeak(), boxes=truth.boxes[0], overlay=False,
+                      write=False, detect_every=3)
+    posed = (run.keypoints[run.detected][..., 2] > 0).any(axis=-1).mean(axis=0)
+    assert posed[1] > 0.9, posed  # the weak person's pose, chosen for dancer 1

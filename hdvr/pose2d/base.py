@@ -16,12 +16,15 @@ class PersonPose:
 
     ``keypoints`` (J, 3): x_px, y_px, confidence in [0, 1] in the detector's layout (``joint_names``); missing
     joints have confidence 0 and NaN coordinates. ``box`` is (x, y, w, h) px; ``score`` the detection confidence.
+    ``weak``: the score is below the detector's threshold for a sure find but above its weak threshold (often a
+    person partly hidden by another); the tracker uses such a find only to update a dancer it already follows.
     """
 
     keypoints: np.ndarray
     box: tuple[float, float, float, float]
     score: float
     joint_names: tuple[str, ...] = COCO17_NAMES
+    weak: bool = False
 
     def body25(self) -> np.ndarray:
         """Keypoints (25, 3) in BODY_25 order (neck and mid-hip derived; feet missing for COCO-17 input)."""

@@ -34,7 +34,9 @@ class OnnxPoseDetector:
 
     def __init__(self, model_path: str | os.PathLike, input_size: int = 640,
                  score_threshold: float = 0.3, nms_iou: float = 0.6, threads: int | None = None,
-                 model_format: str | None = None):
+                 model_format: str | None = None, weak_threshold: float | None = None):
+        """``score_threshold``: the lowest score of a sure find. ``weak_threshold`` (None: none): people scoring
+        from it up to ``score_threshold`` are returned too, marked ``weak`` (:class:`PersonPose`)."""
         import onnxruntime as ort
 
         path = Path(model_path)
@@ -62,6 +64,9 @@ class OnnxPoseDetector:
         self.fixed_size = (fixed_w, fixed_h) if isinstance(fixed_w, int) and isinstance(fixed_h, int) else None
         self.input_size = int(input_size)
         self.score_threshold = score_threshold
+        if weak_threshold is not None and not 0 < weak_threshold <= score_threshold:
+            raise HDVRError(f"weak detection threshold must be in (0, {score_threshold:g}], got {weak_threshold:g}")
+        self.weak_threshold = score_threshold if weak_threshold is None else weak_threshold
         self.nms_iou = nms_iou
 
     @staticmethod
@@ -115,11 +120,13 @@ class OnnxPoseDetector:
             else:
                 xyxy, scores = out[:, :4], out[:, 4]
                 kp = out[:, 6:].reshape(-1, 17, 3)
-        keep = scores >= self.score_threshold
+        # greedy NMS: a weaker candidate never suppresses a stronger one, so the sure finds are the same with or
+        # without weak ones
+        keep = scores >= self.weak_threshold
         xyxy, scores, kp = xyxy[keep], scores[keep], kp[keep]
         if len(scores) and self.model_format == "yolo":
             boxes_xywh = np.column_stack([xyxy[:, :2], xyxy[:, 2:] - xyxy[:, :2]]).tolist()
-            idx = cv2.dnn.NMSBoxes(boxes_xywh, scores.tolist(), self.score_threshold, self.nms_iou)
+            idx = cv2.dnn.NMSBoxes(boxes_xywh, scores.tolist(), self.weak_threshold, self.nms_iou)
             idx = np.asarray(idx, int).ravel()
             xyxy, scores, kp = xyxy[idx], scores[idx], kp[idx]
         # back to frame pixels
@@ -138,6 +145,6 @@ class OnnxPoseDetector:
             if x1 - x0 < 2 or y1 - y0 < 2:
                 continue
             people.append(PersonPose(k.astype(np.float32), (float(x0), float(y0), float(x1 - x0), float(y1 - y0)),
-                                     float(score), COCO17_NAMES))
+                                     float(score), COCO17_NAMES, weak=bool(score < self.score_threshold)))
         people.sort(key=lambda p: -p.score)
         return people

@@ -120,6 +120,10 @@ class MultiTrackerConfig:
     # dancer's head and spread arms, a third of its height, took hdvr synth seed 901 swing's dancer in front for the
     # rest of the clip (IDF1 0.750 -> 1.000); 1.6, as elsewhere, also lost seed 208 tango (0.983 -> 0.879: a couple
     # walking away, whose boxes had not shrunk yet)
+    weak_detections: bool = True  # weak finds (:class:`hdvr.pose2d.base.PersonPose` ``weak``: scored between the
+    # detector's weak and sure thresholds, mostly people partly hidden by another) update the boxes of dancers
+    # followed, clear or in a group, and let a dancer that starts hidden come out; they never find a lost or occluded
+    # dancer again (re-identification, relocation, re-entry, jumps: there they cost switches, see docs/tracking.md)
     reid_from_holder: bool = True  # a detection a tracked dancer holds goes to an occluded dancer whose memory it
     # matches at least ``reid_similarity`` and by ``reid_margin`` better than the holder's, if it stands in front of
     # the holder (bottom ``pixel_front`` lower): the holder's box shows the occluded dancer, come out in front of
@@ -454,10 +458,13 @@ class MultiDancerTracker(ReportedExtent):
         return boxes
 
     # --------------------------------------------------------------------- step
-    def step(self, frame: np.ndarray, detections=None) -> FrameResult:
+    def step(self, frame: np.ndarray, detections=None, weak_detections=None) -> FrameResult:
         """Track all dancers into the next frame. ``detections``: optional person boxes (x, y, w, h) px in this
-        frame, used as extra relocation candidates."""
+        frame, used as extra relocation candidates; ``weak_detections``: boxes the detector is less sure of, used
+        only to update dancers followed (``MultiTrackerConfig.weak_detections``)."""
         c = self.config
+        # weak detections come second: for a dancer followed that no sure detection updates (as in ByteTrack)
+        weak = list(weak_detections) if detections is not None and weak_detections and c.weak_detections else []
         self.frame_index += 1
         t = self.frame_index
         prev_boxes = [d.box for d in self.dancers]
@@ -482,6 +489,8 @@ class MultiDancerTracker(ReportedExtent):
                                                 for dd in self.dancers])
             if not overlapping and detections is not None:
                 matches = [det for det in detections if box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2]
+                if not matches:
+                    matches = [det for det in weak if box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2]
                 d.missed = 0 if matches else d.missed + 1
                 if matches:
                     d.detected_at_edge = self._cut_by_edge(matches)
@@ -521,11 +530,13 @@ class MultiDancerTracker(ReportedExtent):
             else:
                 group.append(d)
         if detections is not None and c.adapt_in_groups:
-            self._adapt_in_group(frame, group, detections)
+            self._adapt_in_group(frame, group, detections, weak)
         if detections is not None and c.group_scale:
-            self._scale_groups(group, detections)
+            self._scale_groups(group, detections, weak)
         if detections and c.emerge_hidden_starts:
             self._emerge(frame, detections)
+            if weak:
+                self._emerge(frame, weak)
         # 3-4. occluded dancers: predict; re-identify any that show clearly again; relocate from the predicted
         # end of the overlap on
         occluded = [d for d in self.dancers if d.status == OCCLUDED]
@@ -875,25 +886,34 @@ class MultiDancerTracker(ReportedExtent):
         y_iou = max(0.0, inter) / union if union > 0 else 0.0
         return 0.5 * (box_iou(box, det) + y_iou)
 
-    def _adapt_in_group(self, frame, group: list[DancerTrack], detections) -> None:
+    def _adapt_in_group(self, frame, group: list[DancerTrack], detections, weak=()) -> None:
         """Boxes of tracked dancers that overlap others adapt to detections that can be assigned to them
         unambiguously (:meth:`_unambiguous_detections`) and whose height is within ``max_height_change`` of the
         box's. The box moves ``group_adaptation`` of the way towards it (size and offset from the tracker's centre,
         as for a clear dancer); the tracker is not restarted (its template would take in the dancers around)."""
         c = self.config
-        if not group or not detections:
+        if not group or not (detections or weak):
             return
-        assigned = self._unambiguous_detections(detections)
+        assigned = self._unambiguous_detections(detections, weak)
         for d in group:
             det = assigned.get(d.dancer_id)
             if det is not None and 1 / c.max_height_change <= det[3] / d.box[3] <= c.max_height_change:
                 self._adapt_box(d, frame, det, c.group_adaptation, retrack=False)
 
-    def _unambiguous_detections(self, detections) -> dict[int, tuple[float, float, float, float]]:
+    def _unambiguous_detections(self, detections, weak=()) -> dict[int, tuple[float, float, float, float]]:
         """Dancer id -> the detection (x, y, w, h px) assigned to it unambiguously: one assignment (Hungarian, on
         :meth:`_fit_score`) of ``detections`` to all dancers in the frame (occluded ones at their predicted boxes);
         a dancer takes its detection when the fit is at least ``group_min_score`` and better by ``group_margin``
-        than that of every other dancer."""
+        than that of every other dancer. The same with ``weak`` detections then gives those dancers still without
+        one theirs."""
+        assigned = self._unambiguous_assignment(detections)
+        if weak:
+            for dancer_id, det in self._unambiguous_assignment(weak).items():
+                assigned.setdefault(dancer_id, det)
+        return assigned
+
+    def _unambiguous_assignment(self, detections) -> dict[int, tuple[float, float, float, float]]:
+        """One round of :meth:`_unambiguous_detections`, on ``detections`` alone."""
         c = self.config
         dets = [tuple(float(v) for v in det) for det in detections]
         live = [d for d in self.dancers if d.status != OUT]
@@ -931,7 +951,7 @@ class MultiDancerTracker(ReportedExtent):
             groups.append(group)
         return groups
 
-    def _scale_groups(self, group: list[DancerTrack], detections) -> None:
+    def _scale_groups(self, group: list[DancerTrack], detections, weak=()) -> None:
         """The boxes of tracked dancers overlapping one another (``group``) grow or shrink with their detections.
 
         A dancer's box keeps its size while it overlaps others (it adapts to detections only while clear), so a
@@ -953,9 +973,9 @@ class MultiDancerTracker(ReportedExtent):
         for d in self.dancers:
             if d not in group:
                 d.group_reference = None
-        if len(group) < 2 or not detections:
+        if len(group) < 2 or not (detections or weak):
             return
-        assigned = self._unambiguous_detections(detections)
+        assigned = self._unambiguous_detections(detections, weak)
         for members in self._groups(group):
             hidden = [o for o in self.dancers if o.status == OCCLUDED
                       and any(self._bodies_overlap(o.box, m.box) > c.overlap_threshold for m in members)]

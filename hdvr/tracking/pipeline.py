@@ -77,6 +77,8 @@ def find_dancers(video: str | os.PathLike, detector: PoseDetector, num_dancers: 
             continue
         used = set()
         for p in detector.detect(frame, k):
+            if p.weak:  # a dancer to follow is found surely
+                continue
             best, best_iou = None, min_iou
             for ti, tr in enumerate(tracks):
                 if ti in used or k - tr["last_frame"] > 3 * every:
@@ -151,7 +153,8 @@ def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int,
     of someone), and one whose body core (``core_aspect`` x its height wide) overlaps that of a box of
     ``clear_of`` by more than ``overlap`` (intersection / smaller): such a box, a part of a group, is the kind that
     is taken for the wrong dancer, and a dancer coming out from behind another is sought clear of the others
-    (:meth:`hdvr.tracking.multi.MultiDancerTracker._emerge`)."""
+    (:meth:`hdvr.tracking.multi.MultiDancerTracker._emerge`). A weak find (:class:`PersonPose` ``weak``) counts
+    as sure here: the crop is searched only where a waiting dancer is expected."""
     height, width = frame.shape[:2]
     found: list = []
     for x, y, w, h in boxes:
@@ -243,10 +246,12 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         for frame in frames:
             stage["decode"] += time.perf_counter() - tic
             run_detector = detector is not None and t % detect_every == 0
-            people = []
+            people, weak = [], []
             if run_detector:
                 tic = time.perf_counter()
                 people = detector.detect(frame, t)
+                weak = [p for p in people if p.weak]  # only for updating dancers followed (see MultiTrackerConfig)
+                people = [p for p in people if not p.weak]
                 if zoom_hidden and tracker is not None and getattr(detector, "supports_crops", True):
                     # a dancer that started hidden and still waits to come out is looked for again, zoomed in; a
                     # find with the colours of a dancer already followed is that dancer, not the waiting one
@@ -263,7 +268,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             if tracker is None:
                 tracker = MultiDancerTracker(frame, [], config)
             else:
-                stepped = tracker.step(frame, detections=[p.box for p in people] if run_detector else None)
+                stepped = tracker.step(frame, detections=[p.box for p in people] if run_detector else None,
+                                       weak_detections=[p.box for p in weak] if run_detector else None)
             new_ids = [tracker.add_dancer(frame, s.box, [p.box for p in people] if run_detector else None)
                        for s in starts if s.frame == t]
             for i in new_ids:
@@ -285,7 +291,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 not_rivals = np.zeros((n, n), bool)  # padded like the boxes: dancers not started yet are no one's
                 k = len(tracker.dancers)
                 not_rivals[:k, :k] = tracker.not_pose_rivals()
-                chosen = selector.select(frame, _pad(tracker.result(widen_hidden=False), n).boxes, people, not_rivals)
+                chosen = selector.select(frame, _pad(tracker.result(widen_hidden=False), n).boxes, people + weak,
+                                         not_rivals)
                 for i, pose in enumerate(chosen):
                     if pose is not None:
                         kp[i] = pose.body25()
