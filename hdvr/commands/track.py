@@ -34,7 +34,7 @@ def register(subparsers) -> None:
     p.add_argument("--detect-every", type=int, default=3,
                    help="run the detector on every k-th frame, the tracker on all, keypoints interpolated in "
                         "between (default 3)")
-    p.add_argument("--weak-threshold", type=float, default=0.2,
+    p.add_argument("--weak-threshold", type=float, default=None,
                    help="ONNX detectors: people scoring from this up to 0.3 are weak finds, used only to update "
                         "the boxes of dancers followed (default 0.2; 0.3 turns them off; see docs/tracking.md)")
     p.add_argument("--threads", type=int, default=None, help="detector threads (default: CPU count, at most 4)")
@@ -47,10 +47,11 @@ def register(subparsers) -> None:
 
 
 def make_detector(args: argparse.Namespace):
-    from hdvr.pipeline import make_detector as by_name
+    from hdvr.pipeline import WEAK_DETECTION_THRESHOLD, make_detector as by_name
 
+    weak = WEAK_DETECTION_THRESHOLD if args.weak_threshold is None else args.weak_threshold
     return by_name(args.detector, args.detector_size, args.pose_model, args.openpose_json, args.threads,
-                   weak_threshold=args.weak_threshold)
+                   weak_threshold=weak)
 
 
 def run(args: argparse.Namespace) -> int:

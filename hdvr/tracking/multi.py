@@ -488,9 +488,10 @@ class MultiDancerTracker(ReportedExtent):
             overlapping = self._overlapping(i, [dd.box if dd.status == TRACKED else self._predicted_box(dd, t)
                                                 for dd in self.dancers])
             if not overlapping and detections is not None:
-                matches = [det for det in detections if box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2]
-                if not matches:
-                    matches = [det for det in weak if box_overlap(d.box, det) > 0.5 and box_iou(d.box, det) > 0.2]
+                def on_box(det, box=d.box) -> bool:
+                    return box_overlap(box, det) > 0.5 and box_iou(box, det) > 0.2
+
+                matches = [det for det in detections if on_box(det)] or [det for det in weak if on_box(det)]
                 d.missed = 0 if matches else d.missed + 1
                 if matches:
                     d.detected_at_edge = self._cut_by_edge(matches)
