@@ -61,7 +61,8 @@ from hdvr.pose2d.models import default_pose_model  # noqa: E402
 from hdvr.pipeline import WEAK_DETECTION_THRESHOLD  # noqa: E402
 from hdvr.pose2d.onnx_pose import OnnxPoseDetector  # noqa: E402
 from hdvr.layouts import COCO17_NAMES  # noqa: E402
-from hdvr.tracking.evaluation import body25_joints_of, evaluate_tracking, pck, visible_truth_keypoints  # noqa: E402
+from hdvr.tracking.evaluation import (  # noqa: E402
+    MISS_CAUSES, VISIBILITY_CLASSES, body25_joints_of, evaluate_tracking, miss_causes, pck, visible_truth_keypoints)
 from hdvr.tracking.multi import MultiTrackerConfig  # noqa: E402
 from hdvr.tracking.pipeline import DancerStart, find_dancers, track_video  # noqa: E402
 from hdvr.tracking.testclips import default_crossing_specs, render_clip, troupe_specs  # noqa: E402
@@ -397,6 +398,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
              "PCK@0.2 per dancer | PCK@0.2 mean | PCK@0.2 mean, 25 | IDF1 / switches at IoU 0.4 | starts hidden |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     scores = {thr: [] for thr in thresholds}  # (IDF1, switches, dancers starting hidden) per clip
+    causes = {thr: {} for thr in thresholds}  # (visibility class, cause) -> dancer-frames, pooled over clips
     joints = body25_joints_of(COCO17_NAMES)
     detectors = {thr: tracking_detector(model, score_threshold=thr) for thr in thresholds}
     for seed in seeds:
@@ -425,6 +427,8 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
                              f"{' / '.join(f'{p:.2f}' for p in pcks)} | {pooled:.3f} | {pooled25:.3f} | "
                              f"{loose.idf1:.3f} / {loose.id_switches} | {len(run.hidden_starts)} |")
                 scores[thr].append((s.idf1, s.id_switches, len(run.hidden_starts)))
+                for key, count in miss_causes(gt, tracked, truth[..., 2].mean(axis=-1)).items():
+                    causes[thr][key] = causes[thr].get(key, 0) + count
                 if per_clip is not None:
                     per_clip[f"{seed}:{index}{':groups' if groups else ''}:{thr:g}"] = {
                         "genre": genre, "dancers": n, "idf1": s.idf1, "id_switches": s.id_switches,
@@ -435,7 +439,25 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
         hidden, clear = [r for r in rows if r[2]], [r for r in rows if not r[2]]
         lines += [f"Threshold {thr:g}: {_idf1_summary(rows)}; clips where a dancer starts hidden: "
                   f"{_idf1_summary(hidden)}; the others: {_idf1_summary(clear)}.", ""]
+    for thr, counts in causes.items():
+        lines += _miss_cause_table(thr, counts)
     return lines
+
+
+def _miss_cause_table(threshold: float, counts: dict) -> list[str]:
+    """Markdown table of :func:`hdvr.tracking.evaluation.miss_causes` counts pooled over clips: per visibility
+    class, each cause's share of all ground-truth dancer-frames."""
+    total = sum(counts.values())
+    if not total:
+        return []
+    lines = [f"Where the ground-truth boxes go unmatched at IoU 0.5 (threshold {threshold:g}; % of all {total} "
+             "dancer-frames; a dancer is visible with >= 90 % of its keypoints seen, partly with >= 40 %):", "",
+             "| dancer | dancer-frames | " + " | ".join(MISS_CAUSES) + " |", "|---|" + "---|" * (len(MISS_CAUSES) + 1)]
+    for v in VISIBILITY_CLASSES:
+        row = [100 * counts.get((v, c), 0) / total for c in MISS_CAUSES]
+        lines.append(f"| {v} | {sum(counts.get((v, c), 0) for c in MISS_CAUSES)} | "
+                     + " | ".join(f"{x:.2f}" for x in row) + " |")
+    return lines + [""]
 
 
 def _seen_truth(clip: Path) -> tuple[np.ndarray, np.ndarray]:

@@ -95,3 +95,28 @@ def test_pck_on_the_joints_a_coco_detector_gives():
     pred[:, [j for j in range(25) if j not in joints], 2] = 0  # feet missing, as from a COCO-17 detector
     assert pck(pred, truth) == pytest.approx(19 / 25)
     assert pck(pred, truth, joints=joints) == 1.0
+
+
+def test_miss_causes_name_where_each_dancer_frame_goes_unmatched():
+    """Frame by frame: matched; both on the other dancer (swapped boxes); dancer 0 at a third of its width
+    (IoU 1/3: extent); dancer 0 far away; dancer 1 without a box. Visibility classes come from the seen
+    fraction: dancer 0 visible, dancer 1 partly seen, then hidden."""
+    from hdvr.tracking.evaluation import MISS_CAUSES, miss_causes
+
+    gt = _gt(5)
+    tracked = gt.copy()
+    tracked[1] = gt[1, ::-1]
+    tracked[2, 0, 2] = gt[2, 0, 2] / 3
+    tracked[3, 0, :2] += 500
+    tracked[4, 1] = np.nan
+    seen = np.full((5, 2), 1.0)
+    seen[:, 1] = 0.5
+    seen[4, 1] = 0.1
+    counts = miss_causes(gt, tracked, seen)
+    expected = {("visible", "matched"): 2, ("visible", "other_dancer"): 1, ("visible", "extent"): 1,
+                ("visible", "elsewhere"): 1, ("partly", "matched"): 3, ("partly", "other_dancer"): 1,
+                ("hidden", "no_box"): 1}
+    assert {k: v for k, v in counts.items() if v} == expected
+    assert set(c for _, c in counts) == set(MISS_CAUSES)
+    with pytest.raises(HDVRError, match="seen fractions"):
+        miss_causes(gt, tracked, seen[:, :1])

@@ -80,6 +80,51 @@ def evaluate_tracking(gt_boxes: np.ndarray, tracked_boxes: np.ndarray, iou_thres
                           precision=float(clear["CLR_Pr"]), frames=int(gt_boxes.shape[0]))
 
 
+#: Visibility classes of :func:`miss_causes`: the fraction of a dancer's keypoints seen (not hidden by another
+#: dancer, inside the image) at least 0.9, at least 0.4, below 0.4.
+VISIBILITY_CLASSES = ("visible", "partly", "hidden")
+#: Causes of :func:`miss_causes`, in the order they are tested.
+MISS_CAUSES = ("matched", "other_dancer", "extent", "elsewhere", "no_box")
+
+
+def miss_causes(gt_boxes: np.ndarray, tracked_boxes: np.ndarray, seen_fraction: np.ndarray,
+                iou_threshold: float = 0.5, extent_iou: float = 0.25) -> dict[tuple[str, str], int]:
+    """Where each dancer's ground-truth box goes unmatched: counts of dancer-frames by (visibility class, cause).
+
+    ``gt_boxes`` and ``tracked_boxes`` (T, N, 4) (x, y, w, h) px with the same dancer order (tracks started
+    from the ground truth), NaN rows = absent; ``seen_fraction`` (T, N): fraction of each dancer's keypoints
+    seen, classed by :data:`VISIBILITY_CLASSES`. Causes (:data:`MISS_CAUSES`), for each ground-truth box: its
+    dancer's tracked box overlaps it at least ``iou_threshold`` (IoU; "matched"); else overlaps another dancer's
+    ground-truth box that much ("other_dancer": on the wrong dancer); else overlaps its own at least
+    ``extent_iou`` ("extent": on the right dancer, but too small, too large or shifted); else is elsewhere; or
+    there is no tracked box. A diagnosis of what IDF1 misses, not a metric of its own."""
+    gt_boxes = np.asarray(gt_boxes, float)
+    tracked_boxes = np.asarray(tracked_boxes, float)
+    seen_fraction = np.asarray(seen_fraction, float)
+    if gt_boxes.ndim != 3 or gt_boxes.shape != tracked_boxes.shape or seen_fraction.shape != gt_boxes.shape[:2]:
+        raise HDVRError(f"expected boxes (T, N, 4) alike and seen fractions (T, N); got {gt_boxes.shape}, "
+                        f"{tracked_boxes.shape} and {seen_fraction.shape}")
+    counts = {(v, c): 0 for v in VISIBILITY_CLASSES for c in MISS_CAUSES}
+    for truth, tracked, seen in zip(gt_boxes, tracked_boxes, seen_fraction):
+        present = np.isfinite(truth).all(axis=1)
+        iou = iou_matrix(np.nan_to_num(tracked, nan=-1e6), np.where(present[:, None], truth, -1e6))
+        for j in np.flatnonzero(present):
+            visibility = VISIBILITY_CLASSES[0 if seen[j] >= 0.9 else 1 if seen[j] >= 0.4 else 2]
+            own = iou[j]
+            if not np.isfinite(tracked[j]).all():
+                cause = "no_box"
+            elif own[j] >= iou_threshold:
+                cause = "matched"
+            elif np.delete(own, j).max(initial=0.0) >= iou_threshold:
+                cause = "other_dancer"
+            elif own[j] >= extent_iou:
+                cause = "extent"
+            else:
+                cause = "elsewhere"
+            counts[(visibility, cause)] += 1
+    return counts
+
+
 def torso_diameter(keypoints: np.ndarray) -> np.ndarray:
     """(...,) px: the larger of |left_shoulder - right_hip| and |right_shoulder - left_hip| of BODY_25 keypoints
     (..., 25, >=2); NaN where neither is available."""
