@@ -48,6 +48,7 @@ import subprocess
 import sys
 import tempfile
 from pathlib import Path
+from typing import NamedTuple
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))
@@ -92,13 +93,18 @@ def peak_rss_mb(video: Path, out: Path, boxes: str) -> float:
     return float(proc.stdout.strip().splitlines()[-1])
 
 
-WEAK_THRESHOLD = WEAK_DETECTION_THRESHOLD  # set by --weak-threshold
+class TrackingModel(NamedTuple):
+    """The pose model (ONNX file) the tracking sections run, and the threshold down to which their detectors
+    report weak finds (``--weak-threshold``; as ``hdvr track`` by default)."""
+
+    path: Path
+    weak_threshold: float = WEAK_DETECTION_THRESHOLD
 
 
-def tracking_detector(model, size: int = 480, score_threshold: float = 0.3) -> OnnxPoseDetector:
-    """The detector a tracking section runs, with weak finds as ``hdvr track`` has them (``--weak-threshold``)."""
-    return OnnxPoseDetector(model, input_size=size, threads=2, score_threshold=score_threshold,
-                            weak_threshold=min(WEAK_THRESHOLD, score_threshold))
+def tracking_detector(model: TrackingModel, size: int = 480, score_threshold: float = 0.3) -> OnnxPoseDetector:
+    """The detector a tracking section runs, with weak finds as ``hdvr track`` has them (``model.weak_threshold``)."""
+    return OnnxPoseDetector(model.path, input_size=size, threads=2, score_threshold=score_threshold,
+                            weak_threshold=min(model.weak_threshold, score_threshold))
 
 
 def main() -> int:
@@ -131,14 +137,12 @@ def main() -> int:
                         help="the tracking sections' detectors report people scoring from this up to their threshold "
                              "as weak finds (default %(default)s, as hdvr track; 0.3 turns them off)")
     args = parser.parse_args()
-    global WEAK_THRESHOLD
-    WEAK_THRESHOLD = args.weak_threshold
     if args.quick:
         args.repeats, args.frames = 1, 150
     sections = set(args.sections.split(","))
     if args.settings:
         SETTINGS[:] = [tuple(int(v) for v in item.split("x")) for item in args.settings.split(",")]
-    model = default_pose_model()
+    model = TrackingModel(default_pose_model(), args.weak_threshold)
     tmp = Path(tempfile.mkdtemp(prefix="hdvr-bench-"))
     clip = tmp / "crossing.mp4"
     truth = render_clip(clip, frames=args.frames, specs=default_crossing_specs(num_figures=2, seed=0))
@@ -159,7 +163,7 @@ def main() -> int:
     if "memory" in sections and not args.quick:
         lines += memory_section(args, clip, boxes, tmp)
     if "detector" in sections and REAL_VIDEO.is_file():
-        lines += detector_section(model)
+        lines += detector_section(model.path)
     if "identity" in sections:
         lines += identity_section(args, model, tmp)
     if "troupe" in sections:
