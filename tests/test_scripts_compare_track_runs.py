@@ -1,4 +1,4 @@
-"""scripts/compare_track_runs.py and bench_track's --tracker-config: measuring one tracker rule on many clips."""
+"""scripts/compare_track_runs.py and bench_track's --tracker-config and miss-cause table: measuring one tracker rule on many clips."""
 
 import importlib.util
 import json
@@ -56,3 +56,17 @@ def test_tracker_config_overrides_take_the_field_types(monkeypatch):
     for bad in ("no_such_rule=1", "reid_from_holder", "reid_from_holder=maybe"):
         with pytest.raises(SystemExit, match="--tracker-config"):
             bench.parse_tracker_config(bad)
+
+
+def test_miss_cause_table_gives_each_cause_its_share_of_all_dancer_frames(monkeypatch):
+    monkeypatch.syspath_prepend(str(SCRIPTS))
+    bench = _load("bench_track")
+    counts = {("visible", "matched"): 6, ("visible", "extent"): 2, ("partly", "other_dancer"): 1,
+              ("hidden", "no_box"): 1}
+    lines = bench._miss_cause_table(0.3, counts)
+    assert "10 dancer-frames" in lines[0]
+    rows = {line.split(" | ")[0].strip("| "): line for line in lines if line.startswith("| ") and "---" not in line}
+    assert rows["visible"] == "| visible | 8 | 60.00 | 0.00 | 20.00 | 0.00 | 0.00 |"
+    assert rows["partly"] == "| partly | 1 | 0.00 | 10.00 | 0.00 | 0.00 | 0.00 |"
+    assert rows["hidden"] == "| hidden | 1 | 0.00 | 0.00 | 0.00 | 0.00 | 10.00 |"
+    assert bench._miss_cause_table(0.3, {}) == []
