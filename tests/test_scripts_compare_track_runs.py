@@ -1,4 +1,4 @@
-"""scripts/compare_track_runs.py and bench_track's --tracker-config and miss-cause table: measuring one tracker rule on many clips."""
+"""scripts/compare_track_runs.py, bench_track's --tracker-config and its miss-cause table."""
 
 import importlib.util
 import json
