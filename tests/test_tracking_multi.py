@@ -995,3 +995,21 @@ def test_an_occluded_dancer_is_not_taken_again_on_background_nor_predicted_onto_
     assert status == OCCLUDED and tracker._bodies_overlap(box, front_box) > tracker.config.overlap_threshold
     status, box = results[False]
     assert status == TRACKED and box[0] > 400  # taken again on the background
+
+
+def test_a_waiting_dancer_comes_out_on_a_weak_find_on_a_frame_without_a_sure_one():
+    """Weak finds come second, also on a detector frame where the detector is sure of no one: a dancer waiting
+    behind another comes out on a weak find clear of the others (session 23; before, a frame without a sure
+    detection let no one come out)."""
+    rng = np.random.default_rng(11)
+    front_box, person = (280.0, 180.0, 120.0, 260.0), (120.0, 120.0, 60.0, 190.0)
+    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
+    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
+    later = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (blue, yellow))])
+    for weak, out in (([person], True), ([], False)):
+        tracker = _waiting_behind(frame)
+        tracker.step(later, detections=[], weak_detections=weak)
+        waiting = tracker.dancers[0]
+        assert (waiting.hidden_behind is None) is out
+        if out:
+            assert box_iou(waiting.box, person) > 0.8

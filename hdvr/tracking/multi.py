@@ -541,8 +541,9 @@ class MultiDancerTracker(ReportedExtent):
             self._adapt_in_group(frame, group, detections, weak)
         if detections is not None and c.group_scale:
             self._scale_groups(group, detections, weak)
-        if detections and c.emerge_hidden_starts:
-            self._emerge(frame, detections)
+        if c.emerge_hidden_starts:  # sure finds first, then weak ones (also on a frame without a sure one)
+            if detections:
+                self._emerge(frame, detections)
             if weak:
                 self._emerge(frame, weak)
         # 3-4. occluded dancers: predict; re-identify any that show clearly again; relocate from the predicted
