@@ -141,13 +141,10 @@ def main(argv=None) -> int:
 
     from dataclasses import replace
 
-    from hdvr.pipeline import WEAK_DETECTION_THRESHOLD
-    from hdvr.pose2d.models import default_pose_model
-    from hdvr.pose2d.onnx_pose import OnnxPoseDetector
+    from hdvr.pipeline import make_detector
     from hdvr.tracking.multi import MultiTrackerConfig
 
-    detector = OnnxPoseDetector(default_pose_model(), input_size=480, threads=2, score_threshold=0.3,
-                                weak_threshold=WEAK_DETECTION_THRESHOLD)
+    detector = make_detector("yolo11n", 480, threads=2)  # as hdvr track has it, weak finds included
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         for seed, index, genre, n, frame_index, what in CASES if args.only != "before-after" else ():

@@ -565,9 +565,7 @@ class MultiDancerTracker(ReportedExtent):
             if self._inside_fraction(d.box) < c.out_fraction:  # moved out of the frame behind the others
                 self._set_out(d)
                 continue
-            others = [o.box for o in self.dancers if o is not d and o.status != OUT]
-            clear_now = any(all(self._bodies_overlap(b, o) <= c.overlap_threshold for o in others)
-                            for b in (d.box, own))
+            clear_now = self._clear_of_others(d, d.box) or self._clear_of_others(d, own)
             if t >= d.occlusion_end or clear_now:
                 self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames,
                                extra=[own])
