@@ -429,8 +429,10 @@ class MultiDancerTracker(ReportedExtent):
                 return t + c.overlap_margin_frames
         return now + c.max_occlusion_frames
 
-    def _cone_candidates(self, d: DancerTrack, detections) -> list[tuple[float, float, float, float]]:
-        """Patches of the stored box size along the stored motion direction, and detections in that cone."""
+    def _cone_candidates(self, d: DancerTrack, detections) -> tuple[list, list]:
+        """Where occluded dancer ``d`` may be found again, as (patches, detections), (x, y, w, h) px: patches of the
+        stored box size along the stored motion direction (a disc about the prediction when barely moving), and the
+        ``detections`` in that cone."""
         c = self.config
         origin = np.array([d.stored_box[0] + d.stored_box[2] / 2, d.stored_box[1] + d.stored_box[3] / 2])
         elapsed = self.frame_index - d.stored_frame
@@ -451,7 +453,8 @@ class MultiDancerTracker(ReportedExtent):
                 a = 2 * np.pi * k / 8
                 for r in (0.5 * rad, rad):
                     centres.append(origin + travel + r * np.array([np.cos(a), np.sin(a)]))
-        boxes = [(float(x - w / 2), float(y - h / 2), w, h) for x, y in centres]
+        patches = [(float(x - w / 2), float(y - h / 2), w, h) for x, y in centres]
+        found = []
         for det in detections or []:
             centre = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2])
             off = centre - origin
@@ -461,8 +464,8 @@ class MultiDancerTracker(ReportedExtent):
             else:
                 inside = np.linalg.norm(off - travel) <= 2 * c.min_search_radius * h
             if inside:
-                boxes.append(tuple(float(v) for v in det))
-        return boxes
+                found.append(tuple(float(v) for v in det))
+        return patches, found
 
     # --------------------------------------------------------------------- step
     def step(self, frame: np.ndarray, detections=None, weak_detections=None) -> FrameResult:
@@ -542,10 +545,11 @@ class MultiDancerTracker(ReportedExtent):
         if detections is not None and c.group_scale:
             self._scale_groups(group, detections, weak)
         if c.emerge_hidden_starts:  # sure finds first, then weak ones (also on a frame without a sure one)
+            front_histograms = {}  # shared by both calls: the colours of the boxes of the dancers in front
             if detections:
-                self._emerge(frame, detections)
+                self._emerge(frame, detections, front_histograms)
             if weak:
-                self._emerge(frame, weak)
+                self._emerge(frame, weak, front_histograms)
         # 3-4. occluded dancers: predict; re-identify any that show clearly again; relocate from the predicted
         # end of the overlap on
         occluded = [d for d in self.dancers if d.status == OCCLUDED]
@@ -1100,13 +1104,11 @@ class MultiDancerTracker(ReportedExtent):
 
     def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
         c = self.config
-        cone = self._cone_candidates(d, detections)
-        candidates = cone + [tuple(b) for b in extra]
+        patches, found = self._cone_candidates(d, detections)
+        candidates = patches + found + [tuple(b) for b in extra]
         others = [o.box for o in self.dancers if o is not d and o.status == TRACKED]
         best, best_score = None, -np.inf
-        detected = {tuple(float(v) for v in det) for det in detections or []}
         # the cone's patches are guesses; the dancer's own tracker (``extra``) and detections saw something there
-        patches = [box for box in cone if tuple(box) not in detected]
         empty = {tuple(b) for b, shows in zip(patches, self._shows_someone(frame, d, patches)) if not shows}
         for box in candidates:
             if max((box_iou(box, o) for o in others), default=0.0) > 0.5:
@@ -1118,7 +1120,7 @@ class MultiDancerTracker(ReportedExtent):
                 best, best_score = box, score
         if best is None or (best_score < c.relocate_min_similarity and not force):
             return  # stay occluded; try again next frame
-        self._take(d, best, best_score, seen_part=best in detected)
+        self._take(d, best, best_score, seen_part=best in found)
 
     def _clear_of_others(self, d: DancerTrack, box) -> bool:
         """Whether ``box`` (x, y, w, h px) overlaps the body core of no dancer in the frame but ``d``."""
@@ -1171,7 +1173,7 @@ class MultiDancerTracker(ReportedExtent):
         d.clear_track = []
         d.stored_box, d.stored_frame = d.box, self.frame_index
 
-    def _emerge(self, frame, detections) -> None:
+    def _emerge(self, frame, detections, front_histograms: dict | None = None) -> None:
         """Dancers that started mostly hidden (``hidden_behind``) take a detection that comes out from behind:
         one that no other dancer takes (one assignment on :meth:`_fit_score` of the detections to the tracked
         dancers not waiting so), whose body core overlaps no other dancer's (``overlap_threshold``), whose centre
@@ -1180,8 +1182,10 @@ class MultiDancerTracker(ReportedExtent):
         ``reid_similarity`` (or, ``emerge_relative``, by ``reid_margin`` less than the hiding dancer's box does
         now); the nearest such detection. The dancer's box moves there (unless it already overlaps it by IoU 0.5,
         or more; keeping its height when the detection is shorter, ``emerge_keeps_height``), and it learns its
-        colours from it, replacing those of the dancer in front: it no longer waits."""
+        colours from it, replacing those of the dancer in front: it no longer waits. ``front_histograms``: a dict
+        of the colour histograms of the front dancers' boxes, by (dancer id, box), shared by the calls of a frame."""
         c = self.config
+        front_histograms = {} if front_histograms is None else front_histograms
         waiting = self.waiting()
         if not waiting:
             return
@@ -1194,7 +1198,10 @@ class MultiDancerTracker(ReportedExtent):
             centre = np.asarray(box_centre(d.box))
             unlike_front = c.reid_similarity
             if c.emerge_relative and front.status == TRACKED:
-                front_hist = colour_histogram(frame, front.box)
+                key = (front.dancer_id, tuple(front.box))
+                if key not in front_histograms:
+                    front_histograms[key] = colour_histogram(frame, front.box)
+                front_hist = front_histograms[key]
                 if front_hist is not None:
                     unlike_front = max(unlike_front, histogram_similarity(front_hist, front.stored_histogram)
                                        - c.reid_margin)
