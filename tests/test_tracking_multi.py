@@ -867,6 +867,26 @@ def test_a_dancer_relocated_on_a_patch_keeps_the_patch_s_bottom():
         assert d.box[3] == pytest.approx(198.0)
 
 
+def test_the_cone_search_gives_its_patches_and_the_detections_in_the_cone_apart():
+    """Relocation looks for an occluded dancer along its stored motion: patches of its stored box size in a cone
+    about the direction of travel, and the detections inside that cone (a detection behind the dancer is not one).
+    The two come apart: only the patches are guesses that the foreground test may rule out."""
+    frame = np.random.default_rng(9).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    tracker = MultiDancerTracker(frame, [(100.0, 100.0, 60.0, 200.0), (400.0, 100.0, 60.0, 200.0)])
+    d = tracker.dancers[0]
+    d.stored_velocity = np.array([4.0, 0.0])  # px/frame to the right
+    tracker.frame_index = 30  # 120 px on
+    ahead, behind = (215.0, 105.0, 60.0, 195.0), (-10.0, 100.0, 60.0, 200.0)
+    patches, found = tracker._cone_candidates(d, [ahead, behind])
+    config = tracker.config
+    assert len(patches) == len(config.cone_radii) * config.cone_angles
+    assert all(p[2:] == (60.0, 200.0) for p in patches)
+    centres = np.array([[p[0] + p[2] / 2 - 130.0, p[1] + p[3] / 2 - 200.0] for p in patches])
+    angles = np.degrees(np.arctan2(centres[:, 1], centres[:, 0]))
+    assert np.abs(angles).max() == pytest.approx(config.cone_half_angle_deg)
+    assert found == [ahead]
+
+
 def test_an_occluded_dancer_keeps_the_size_its_box_had_when_hidden():
     """A dancer hidden behind another is predicted from its last clear box moved on with its stored velocity; with
     ``occluded_keeps_size`` the predicted box has the size of the box it had when it was hidden, around that
