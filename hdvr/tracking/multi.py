@@ -1105,16 +1105,15 @@ class MultiDancerTracker(ReportedExtent):
     def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
         c = self.config
         patches, found = self._cone_candidates(d, detections)
-        candidates = patches + found + [tuple(b) for b in extra]
+        # the cone's patches are guesses, and those on background are no candidates; the dancer's own tracker
+        # (``extra``) and the detections saw something there
+        candidates = [b for b, shows in zip(patches, self._shows_someone(frame, d, patches)) if shows] + found + \
+            [tuple(b) for b in extra]
         others = [o.box for o in self.dancers if o is not d and o.status == TRACKED]
         best, best_score = None, -np.inf
-        # the cone's patches are guesses; the dancer's own tracker (``extra``) and detections saw something there
-        empty = {tuple(b) for b, shows in zip(patches, self._shows_someone(frame, d, patches)) if not shows}
         for box in candidates:
             if max((box_iou(box, o) for o in others), default=0.0) > 0.5:
                 continue  # that patch is another dancer's
-            if tuple(box) in empty:
-                continue  # background
             score = histogram_similarity(colour_histogram(frame, box), d.stored_histogram)
             if score > best_score:
                 best, best_score = box, score
@@ -1143,6 +1142,7 @@ class MultiDancerTracker(ReportedExtent):
         fg = foreground_mask(frame, others + [d.box] + [tuple(b) for b in boxes], margin=c.pixel_margin,
                              opening=c.pixel_opening)
         size = (frame.shape[1], frame.shape[0])
+        others_clipped = [b for b in (clip_box(o, size) for o in others) if b is not None]
         shows = []
         for box in boxes:
             r = clip_box(box, size)
@@ -1151,9 +1151,8 @@ class MultiDancerTracker(ReportedExtent):
                 continue
             x0, y0, x1, y1 = r
             counted = np.ones((y1 - y0, x1 - x0), bool)
-            for b in [clip_box(o, size) for o in others]:
-                if b is not None:
-                    counted[max(0, b[1] - y0):max(0, b[3] - y0), max(0, b[0] - x0):max(0, b[2] - x0)] = False
+            for b in others_clipped:
+                counted[max(0, b[1] - y0):max(0, b[3] - y0), max(0, b[0] - x0):max(0, b[2] - x0)] = False
             shows.append(not counted.any() or float(fg[y0:y1, x0:x1][counted].mean()) >= c.patch_min_foreground)
         return shows
 
