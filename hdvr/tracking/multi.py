@@ -122,6 +122,8 @@ class MultiTrackerConfig:
     reid_held_overlap: float = 0.5  # ... whose body core this one overlaps less than this (intersection / smaller)
     reid_beside_unheld: bool = True  # ... or tracked dancers without a detection whose memory it matches worse
     reid_unheld_height: float = 1.3  # ... if its height is within this factor of the occluded dancer's box
+    reid_unheld_aspect: float = 2.0  # ... and its width / height at most this factor of the occluded dancer's box's
+    # (a wider box there is a part of that dancer drawn apart, e.g. its upper body with spread arms)
     reid_height_change: float = 2.0  # re-identification takes no detection this much taller or shorter than the
     # dancer's box, its bottom made good where a dancer in front hides it (:meth:`_feet_hidden`). A box about a
     # dancer's head and spread arms, a third of its height, took hdvr synth seed 901 swing's dancer in front for the
@@ -1258,8 +1260,9 @@ class MultiDancerTracker(ReportedExtent):
         that overlaps a tracked dancer cost IDF1 0.15-0.2 on procedural 4-dancer clips with the detector).
         With ``reid_beside_unheld``, a detection may also overlap (less than ``reid_held_overlap`` of the core)
         tracked dancers that hold no detection, e.g. one hidden behind a third dancer, when its height is within
-        ``reid_unheld_height`` of the occluded dancer's box; those dancers' memories are then rivals too: the
-        detection must match the occluded dancer's memory by ``reid_margin`` better than theirs.
+        ``reid_unheld_height`` of the occluded dancer's box and its width / height at most ``reid_unheld_aspect`` x
+        the box's (a wider one is a part of such a dancer that YOLO drew apart); those dancers' memories are then
+        rivals too: the detection must match the occluded dancer's memory by ``reid_margin`` better than theirs.
         With ``reid_from_holder``, a detection that a tracked dancer takes is a candidate too when it stands in
         front of that dancer, covering its body core's width, and its colours match an occluded dancer's memory at
         least ``reid_similarity`` and by ``reid_margin`` better than the holder's (:meth:`_handed_over`; the holder
@@ -1309,9 +1312,11 @@ class MultiDancerTracker(ReportedExtent):
                                                np.linalg.norm(box_centre(det) - box_centre(d.stored_box))) <= radius]
             boxes = [box for box in near if clear(box, True)]
             # beside a dancer without a detection, a box of about the dancer's height only (YOLO's box around two
-            # figures, or a figure and its shadow, is taller)
+            # figures, or a figure and its shadow, is taller), and not much wider for its height (a part of the
+            # dancer without a detection, e.g. its upper body with spread arms)
             boxes = [box for box in boxes if tuple(box) not in box_rivals
-                     or 1 / c.reid_unheld_height <= box[3] / d.box[3] <= c.reid_unheld_height]
+                     or (1 / c.reid_unheld_height <= box[3] / d.box[3] <= c.reid_unheld_height
+                         and box[2] / box[3] <= c.reid_unheld_aspect * d.box[2] / d.box[3])]
             boxes = [box for box in boxes if 1 / c.reid_height_change
                      <= self._feet_hidden(d, box)[3] / d.box[3] <= c.reid_height_change]
             candidates.append((d, boxes + ([own] if clear(own, False) else [])))
