@@ -1061,3 +1061,37 @@ def test_a_waiting_dancer_comes_out_on_a_weak_find_on_a_frame_without_a_sure_one
         assert (waiting.hidden_behind is None) is out
         if out:
             assert box_iou(waiting.box, person) > 0.8
+
+
+def test_a_dancer_in_front_of_a_hidden_one_scales_with_its_detection():
+    """A couple walking towards the camera, one hidden behind the other since the start: the one in front overlaps
+    the hidden one, so it is never clear to adapt to its detection, and a group needs two dancers followed. With
+    ``group_scale_front`` a lone dancer whose overlapping dancers all wait hidden behind it since their start scales
+    with its own detection as a group does (relative change, its box's size convention kept); without, it keeps its
+    size, and so it does in front of a dancer occluded later (that one may come out any time) or of one hidden in
+    front of it (lower in the image)."""
+    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    front, behind = (300.0, 120.0, 70.0, 250.0), (305.0, 100.0, 60.0, 210.0)
+
+    def detection(scale):  # the front dancer's detector box, 10 % smaller than its box, scaled about it
+        x, y, w, h = front
+        cx, cy, dw, dh = x + w / 2, y + h / 2, w / 1.1 * scale, h / 1.1 * scale
+        return [(cx - dw / 2, cy - dh / 2, dw, dh)]
+
+    def scaled(rule=True, waiting=True, hidden_box=behind):
+        tracker = MultiDancerTracker(frame, [front, hidden_box], MultiTrackerConfig(group_scale_front=rule))
+        hidden = tracker.dancers[1]
+        tracker._occlude(hidden, [tracker.dancers[0]])
+        hidden.hidden_behind = tracker.dancers[0].dancer_id if waiting else None
+        assert hidden.status == OCCLUDED
+        group = [tracker.dancers[0]]
+        tracker._scale_groups(group, detection(1.0))  # records the reference
+        for _ in range(20):
+            tracker._scale_groups(group, detection(1.2))
+        return tracker.dancers[0].box
+
+    box = scaled()
+    assert box[3] == pytest.approx(1.2 * front[3], rel=0.02) and box[2] == pytest.approx(1.2 * front[2], rel=0.02)
+    assert scaled(rule=False) == front
+    assert scaled(waiting=False) == front
+    assert scaled(hidden_box=(305.0, 160.0, 60.0, 250.0)) == front

@@ -200,6 +200,9 @@ class MultiTrackerConfig:
     # gone); seeds 7-127 0.9735 -> 0.9728 (seed 101 flamenco 0.900 -> 0.897); groups of 6-8 0.9205 -> 0.9212
     group_scale_agreement: float = 1.15  # ... when the dancers' scale changes are within this factor of each other
     group_scale_adaptation: float = 0.3  # ... by this fraction of the (log) change per detector frame
+    group_scale_front: bool = True  # ... and a lone dancer whose overlapping dancers all wait hidden behind it since
+    # their start (``hidden_behind``) scales the same way with its own detection (a couple walking towards the camera,
+    # one hidden behind the other all along)
     group_scale_shared: bool = True  # ... or, when the detector draws one person box over the whole group (a couple
     # in hold), as that box grows or shrinks (:meth:`MultiDancerTracker._shared_detection`). Cached synthetic clips:
     # seeds 201-212 and 151-199 mean IDF1 0.9740 -> 0.9753 (seed 201 tango 0.867 -> 1.000), switches unchanged;
@@ -985,18 +988,25 @@ class MultiDancerTracker(ReportedExtent):
         dancer is clear of others. With ``group_scale_shared``, a group whose dancers do not each hold a detection
         but share one person box (:meth:`_shared_detection`: the detector drew a couple in hold as one person)
         takes that box's height as every member's detected height; a change between shared and own detections
-        starts a new reference."""
+        starts a new reference. With ``group_scale_front``, a lone dancer whose overlapping dancers are all occluded
+        behind it (box bottom ``pixel_front`` x their height lower), each waiting there since its start
+        (``hidden_behind``), is such a group on its own, with its own unambiguous detection: a couple walking
+        towards the camera with one hidden behind the other all along kept the front box's size (seed 1203 swing)."""
         c = self.config
         for d in self.dancers:
             if d not in group:
                 d.group_reference = None
-        if len(group) < 2 or not (detections or weak):
+        if len(group) < (1 if c.group_scale_front else 2) or not (detections or weak):
             return
         assigned = self._unambiguous_detections(detections, weak)
         for members in self._groups(group):
             hidden = [o for o in self.dancers if o.status == OCCLUDED
                       and any(self._bodies_overlap(o.box, m.box) > c.overlap_threshold for m in members)]
-            if len(members) < 2 or hidden:
+            # a dancer in front of dancers waiting hidden behind it since their start scales alone
+            front = c.group_scale_front and len(members) == 1 and hidden and members[0].dancer_id in assigned \
+                and all(o.hidden_behind is not None and stands_in_front(members[0].box, o.box, c.pixel_front)
+                        for o in hidden)
+            if not front and (len(members) < 2 or hidden):
                 continue
             heights = {m.dancer_id: assigned[m.dancer_id][3] for m in members if m.dancer_id in assigned}
             shared = len(heights) < len(members)
