@@ -230,6 +230,26 @@ def test_no_pixel_growth_onto_a_background_patch_next_to_the_box():
     assert result.boxes[0][2] > 76 + 20, result.boxes[0]  # without the rule the box grows onto it
 
 
+def test_no_pixel_growth_across_an_arm_to_the_body_of_a_dancer_beside():
+    """A run of foreground from a dancer's box that ends on the body of a dancer standing level with it (a column
+    more than ``pixel_max_fill`` full inside that dancer's box, outside its body core: a cape, a skirt, a bent arm)
+    crossed an arm that may be either's: that side gets nothing (``pixel_full_in_box``; hdvr synth seed 605
+    hip-hop: the arm of the dancer beside grew the box of a dancer half hidden behind a third)."""
+    boxes = [(162.0, 106.0, 76.0, 288.0), (380.0, 106.0, 120.0, 288.0)]  # B's box is wider than its body core
+    frame = _arms_scene(60.0, b_wrist=420.0)
+    tracker = MultiDancerTracker(frame, boxes)
+    frame = _arms_scene(60.0, b_wrist=245.0)  # B's arm reaches to 7 px beside A's box ...
+    frame[130:260, 384:396] = (40, 110, 230)  # ... from a cape inside B's box, outside its body core (397-483)
+    assert tracker._core(boxes[1])[0] > 396
+    for _ in range(5):
+        result = tracker.extend_to_poses(frame, [None, None], [None, None])
+    np.testing.assert_allclose(result.boxes[0], boxes[0], atol=1e-6)
+    loose = MultiDancerTracker(_arms_scene(60.0, b_wrist=420.0), boxes, MultiTrackerConfig(pixel_full_in_box=False))
+    for _ in range(5):
+        result = loose.extend_to_poses(frame, [None, None], [None, None])
+    assert result.boxes[0][2] > 76 + 60, result.boxes[0]  # without the rule A's box grows over B's arm
+
+
 def _stacked_scene(b_arm_tip=None, a_arm_out=False):
     """Dancer B (orange, 250 px tall, feet at y 360) straight behind dancer A (blue, 280 px, feet at y 400), both
     centred at x 300, on the wall-and-floor background of :func:`_arms_scene`. With ``b_arm_tip`` (x px) B reaches

@@ -198,7 +198,12 @@ class ReportedExtent:
         # columns of other dancers' body cores at these rows: 1 where this dancer stands in front of that dancer
         # (box bottom lower in the image: its arm may cross the other's body), -1 where behind or level
         cores = np.zeros(width, int)
+        level_boxes = np.zeros(width, bool)  # columns of the boxes of dancers level with this one or in front
         for o in others:
+            bx, bw = o.box[0], o.box[2]
+            if not own_segment and o.box[1] < r1 and o.box[1] + o.box[3] > r0 and \
+                    not y + h > o.box[1] + o.box[3] + c.pixel_front * h:
+                level_boxes[max(0, int(bx)):max(0, int(np.ceil(bx + bw)))] = True
             ox, oy, ow, oh = self._core(o.box)
             if oy < r1 and oy + oh > r0:
                 span = slice(max(0, int(ox)), max(0, int(np.ceil(ox + ow))))
@@ -212,7 +217,11 @@ class ReportedExtent:
         reach = []
         for edge, step in ((int(np.floor(x)) - 1, -1), (int(np.ceil(x + w)), 1)):
             last, gap, col = 0, 0, edge
-            while 0 <= col < width and abs(col - edge) < limit and not full[col]:
+            while 0 <= col < width and abs(col - edge) < limit:
+                if full[col]:
+                    if c.pixel_full_in_box and level_boxes[col]:
+                        last = 0  # the run crossed that dancer's limb to its body
+                    break
                 if cores[col] > 0 and own_segment:
                     pass  # the limb crosses the body of a dancer behind this one
                 elif cores[col] != 0:  # the run reaches another dancer's body: it stops there, and if that dancer
