@@ -875,6 +875,22 @@ def test_a_waiting_dancer_emerging_on_its_upper_body_keeps_its_height():
         assert waiting.box[:3] == pytest.approx(upper[:3]) and waiting.box[3] == pytest.approx(height), keep
 
 
+def test_a_waiting_dancer_does_not_emerge_on_a_wide_part_drawn_as_a_person():
+    """A detection much wider for its height than the waiting dancer's box (``emerge_max_aspect``: 2 x) is a part of
+    a dancer that YOLO drew as a person, e.g. the spread arm of the dancer in front (hdvr synth seed 1308 hip-hop: a
+    box 175 x 93 px taken for a dancer 51 px wide), not the waiting dancer coming out."""
+    rng = np.random.default_rng(8)
+    front_box, wide = (280.0, 180.0, 120.0, 260.0), (150.0, 120.0, 130.0, 140.0)  # aspects 0.46 and 0.93
+    frame = _two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170)))])
+    later = _two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170))),
+                                    (wide, ((200, 60, 40), (40, 200, 220)))])
+    for aspect, emerged in ((2.0, False), (float("inf"), True)):
+        tracker = _waiting_behind(frame, MultiTrackerConfig(emerge_max_aspect=aspect))
+        waiting = tracker.dancers[0]  # box 60 x 200 px: aspect 0.3
+        tracker._emerge(later, [front_box, wide])
+        assert (waiting.hidden_behind is None) == emerged, aspect
+
+
 def test_a_dancer_relocated_on_a_patch_keeps_the_patch_s_bottom():
     """Only a detection shows just the part of a dancer above a dancer in front: a dancer taken again on a patch
     of its own box size (the cone search, or its own tracker) keeps the patch as it is, while a detection ending

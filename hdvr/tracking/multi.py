@@ -150,6 +150,9 @@ class MultiTrackerConfig:
     emerge_keeps_height: bool = True  # a dancer coming out on a detection shorter than its box keeps the box's
     # height (the detector sees the part already out; seed 705 tango, a couple in hold: 0.533 -> 0.812)
     emerge_distance: float = 1.0  # x the box height: how far from the dancer's box centre that detection may be
+    emerge_max_aspect: float = 2.0  # ... and its width / height at most this factor of the dancer's box's: a wider
+    # one is a part of a dancer that YOLO drew as a person, e.g. the spread arm of the dancer in front (seed 1308
+    # hip-hop; cached synthetic clips: 8 of 864 up, none down, 4 switches fewer; docs/tracking.md, session 26)
     hidden_front_rival: bool = True  # while such a dancer waits, the dancer hiding it is one more rival when it is
     # re-identified (its memory shows that dancer: a patch of it would match). Cached synthetic clips: seeds 201-212
     # and 151-199 mean IDF1 0.9578 -> 0.9585, identity switches 23 -> 15; seeds 7-139 and groups of 6-8 unchanged
@@ -1191,7 +1194,8 @@ class MultiDancerTracker(ReportedExtent):
         one that no other dancer takes (one assignment on :meth:`_fit_score` of the detections to the tracked
         dancers not waiting so), whose body core overlaps no other dancer's (``overlap_threshold``), whose centre
         lies within ``emerge_distance`` box heights of the dancer's box centre, whose height is within
-        ``max_height_change`` of the box's, and whose colours match the hiding dancer's memory less than
+        ``max_height_change`` of the box's, whose width / height is at most ``emerge_max_aspect`` x the box's (a
+        wider one is a part of a dancer drawn as a person), and whose colours match the hiding dancer's memory less than
         ``reid_similarity`` (or, ``emerge_relative``, by ``reid_margin`` less than the hiding dancer's box does
         now); the nearest such detection. The dancer's box moves there (unless it already overlaps it by IoU 0.5,
         or more; keeping its height when the detection is shorter, ``emerge_keeps_height``), and it learns its
@@ -1221,6 +1225,7 @@ class MultiDancerTracker(ReportedExtent):
             best, best_distance = None, c.emerge_distance * d.box[3]
             for k, det in enumerate(dets):
                 if k in taken or not 1 / c.max_height_change <= det[3] / d.box[3] <= c.max_height_change \
+                        or det[2] / det[3] > c.emerge_max_aspect * d.box[2] / d.box[3] \
                         or any(self._bodies_overlap(det, o.box) > c.overlap_threshold for o in self.dancers
                                if o is not d and o.status != OUT):
                     continue
