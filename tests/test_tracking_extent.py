@@ -250,6 +250,28 @@ def test_no_pixel_growth_across_an_arm_to_the_body_of_a_dancer_beside():
     assert result.boxes[0][2] > 76 + 60, result.boxes[0]  # without the rule A's box grows over B's arm
 
 
+def test_a_run_longer_than_the_reach_is_followed_to_where_it_ends():
+    """Foreground that still runs on at ``pixel_max_reach`` is followed to ``pixel_follow_reach`` x the box height:
+    ending on the body of a dancer level with this one, it was that dancer's arm, and the box does not grow
+    (hdvr synth seed 605 hip-hop: a half-hidden dancer 158 px tall grew 95 px over the arm of a dancer beside).
+    Without following, the box grows to the reach."""
+    boxes = [(162.0, 106.0, 96.0, 288.0), (432.0, 106.0, 76.0, 288.0)]
+
+    def scene(b_wrist):
+        frame = _arms_scene(60.0)
+        kp = _figure(frame, 470.0, 110.0, 280.0, (40, 110, 230), 40.0)
+        cv2.line(frame, tuple(int(v) for v in kp[6, :2]), (int(b_wrist), 190), (40, 110, 230), 12)
+        return frame
+
+    frame = scene(262.0)  # B's arm runs 174 px from A's box to B's body core, past A's reach of 0.5 x 288 = 144 px
+    for follow, grows in ((1.2, False), (0.0, True)):
+        config = MultiTrackerConfig(pixel_max_reach=0.5, pixel_follow_reach=follow)
+        tracker = MultiDancerTracker(scene(450.0), boxes, config)
+        for _ in range(6):
+            result = tracker.extend_to_poses(frame, [None, None], [None, None])
+        assert (result.boxes[0][2] > 96 + 100) == grows, result.boxes[0]
+
+
 def _stacked_scene(b_arm_tip=None, a_arm_out=False):
     """Dancer B (orange, 250 px tall, feet at y 360) straight behind dancer A (blue, 280 px, feet at y 400), both
     centred at x 300, on the wall-and-floor background of :func:`_arms_scene`. With ``b_arm_tip`` (x px) B reaches

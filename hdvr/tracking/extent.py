@@ -159,12 +159,14 @@ class ReportedExtent:
         """How far (px) foreground pixels (``fg``: :func:`hdvr.tracking.appearance.foreground_mask`) run on from
         tracked dancer ``d``'s box to the left and to the right at arm height (rows ``pixel_band`` of the box).
         Column by column outwards from the box: a column counts when it holds at least max(3, ``pixel_min_thickness``
-        x the box height) foreground pixels, the run may break for ``pixel_gap`` columns, ends at
-        ``pixel_max_reach`` x the box height, and stops at a column more than ``pixel_max_fill`` foreground (a body
-        beside the box, or background the sample lacked). Where it reaches another dancer's body core it stops,
-        and if that dancer stands level with ``d`` or in front (box bottom not ``pixel_front`` x the height higher
-        in the image), that side gets nothing: the limb may be that dancer's, reaching towards ``d``. Zero for a
-        dancer not seen now or standing straight behind or in front of another (``pose_stack_overlap``).
+        x the box height) foreground pixels, the run may break for ``pixel_gap`` columns, counts up to
+        ``pixel_max_reach`` x the box height (a run still going there is followed on to ``pixel_follow_reach`` x
+        the height, to see where it ends), and stops at a column more than ``pixel_max_fill`` foreground (a body
+        beside the box, or background the sample lacked). Where it reaches another dancer's body core, or such a
+        full column inside another dancer's box (``pixel_full_in_box``), it stops, and if that dancer stands level
+        with ``d`` or in front (box bottom not ``pixel_front`` x the height higher in the image), that side gets
+        nothing: the limb may be that dancer's, reaching towards ``d``. Zero for a dancer not seen now or standing
+        straight behind or in front of another (``pose_stack_overlap``).
 
         Written here as a scan over column counts rather than with ``cv2.connectedComponents``: the dancers' own
         foreground touches (a group is one component), and what is needed is how far the run goes along one row
@@ -214,10 +216,12 @@ class ReportedExtent:
         needed = max(3.0, c.pixel_min_thickness * h)
         full = counts > c.pixel_max_fill * (r1 - r0)
         limit = c.pixel_max_reach * h
+        # a run still going at the limit is followed on (not own_segment) to see whether it ends on a dancer's body
+        scan = limit if own_segment else max(limit, c.pixel_follow_reach * h)
         reach = []
         for edge, step in ((int(np.floor(x)) - 1, -1), (int(np.ceil(x + w)), 1)):
             last, gap, col = 0, 0, edge
-            while 0 <= col < width and abs(col - edge) < limit:
+            while 0 <= col < width and abs(col - edge) < scan:
                 if full[col]:
                     if c.pixel_full_in_box and level_boxes[col]:
                         last = 0  # the run crossed that dancer's limb to its body
@@ -229,7 +233,7 @@ class ReportedExtent:
                     last = last if cores[col] > 0 else 0
                     break
                 if counts[col] >= needed:
-                    last, gap = abs(col - edge) + 1, 0
+                    last, gap = min(abs(col - edge) + 1, limit), 0
                 else:
                     gap += 1
                     if gap > c.pixel_gap:

@@ -231,6 +231,8 @@ class MultiTrackerConfig:
     # around the dancers) run on from the box at arm height (:meth:`MultiDancerTracker._pixel_reach`)
     pixel_band: tuple[float, float] = (0.05, 0.6)  # rows searched for arms, x the box height from its top
     pixel_max_reach: float = 0.6  # at most this x the box height beyond each side
+    pixel_follow_reach: float = 1.2  # x the box height: a run still going at ``pixel_max_reach`` is followed this
+    # far to see where it ends (on the body of a dancer beside: nothing, as for a shorter run)
     pixel_gap: int = 3  # px: the run of foreground columns may break for this many columns
     pixel_min_thickness: float = 0.025  # x the box height: foreground pixels a column needs (an arm; the
     # blended pixels along the edge of a floor are thinner)
