@@ -243,7 +243,7 @@ class MultiTrackerConfig:
     pixel_max_fill: float = 0.4  # a column more than this full of foreground (of the band's rows) is no arm: a
     # body beside the box, or background whose colour the sample around the dancers lacks; the run stops there
     pixel_full_in_box: bool = True  # ... and where that column lies in the box of a dancer standing level or in
-    # front, that side gets nothing: the run crossed that dancer's arm to its body (seed 605 hip-hop)
+    # front, that side gets nothing: the run crossed that dancer's arm to its body (seed 502 flamenco)
     stacked_extent: bool = True  # a dancer hidden straight behind another reaches as far as foreground runs on
     # from the front dancer's box beyond that dancer's own skeleton (:meth:`MultiDancerTracker._stacked_reach`)
     stacked_tolerance: float = 0.1  # x the front dancer's height: a shorter run is no limb

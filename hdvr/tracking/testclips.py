@@ -3,9 +3,9 @@ and occlude each other in front of a textured background.
 
 Figures walk in straight lines and turn back at the left and right edges (by default 6 % of the width from them),
 so a long clip has many crossings; a figure whose turning point lies outside the frame walks out and back in
-(its ground-truth box is NaN while nothing of it is in the frame, and covers the part inside the frame). Each figure has a skeleton (BODY_25 joints, pixels) animated per frame; its ground-truth
-box is the amodal
-(x, y, w, h) box of the drawn figure, occluded parts included, as in the MOT challenge. Figures are drawn back
+(its ground-truth box is NaN while nothing of it is in the frame, and covers the part inside the frame). Each
+figure has a skeleton (BODY_25 joints, pixels) animated per frame; its ground-truth box is the amodal (x, y, w, h)
+box of the drawn figure, occluded parts included, as in the MOT challenge. Figures are drawn back
 to front in a fixed depth order, so at a crossing the nearer figure hides the farther one.
 Everything is deterministic by ``seed``.
 """
