@@ -233,8 +233,8 @@ def test_no_pixel_growth_onto_a_background_patch_next_to_the_box():
 def test_no_pixel_growth_across_an_arm_to_the_body_of_a_dancer_beside():
     """A run of foreground from a dancer's box that ends on the body of a dancer standing level with it (a column
     more than ``pixel_max_fill`` full inside that dancer's box, outside its body core: a cape, a skirt, a bent arm)
-    crossed an arm that may be either's: that side gets nothing (``pixel_full_in_box``; hdvr synth seed 605
-    hip-hop: the arm of the dancer beside grew the box of a dancer half hidden behind a third)."""
+    crossed an arm that may be either's: that side gets nothing (``pixel_full_in_box``; hdvr synth seed 502
+    flamenco 0.761 -> 0.914)."""
     boxes = [(162.0, 106.0, 76.0, 288.0), (380.0, 106.0, 120.0, 288.0)]  # B's box is wider than its body core
     frame = _arms_scene(60.0, b_wrist=420.0)
     tracker = MultiDancerTracker(frame, boxes)

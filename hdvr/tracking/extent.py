@@ -201,15 +201,17 @@ class ReportedExtent:
         # (box bottom lower in the image: its arm may cross the other's body), -1 where behind or level
         cores = np.zeros(width, int)
         level_boxes = np.zeros(width, bool)  # columns of the boxes of dancers level with this one or in front
+
+        def columns(left, span_width) -> slice:
+            return slice(max(0, int(left)), max(0, int(np.ceil(left + span_width))))
+
         for o in others:
-            bx, bw = o.box[0], o.box[2]
-            if not own_segment and o.box[1] < r1 and o.box[1] + o.box[3] > r0 and \
-                    not y + h > o.box[1] + o.box[3] + c.pixel_front * h:
-                level_boxes[max(0, int(bx)):max(0, int(np.ceil(bx + bw)))] = True
+            in_front = y + h > o.box[1] + o.box[3] + c.pixel_front * h  # this dancer stands in front of o
+            if not own_segment and not in_front and o.box[1] < r1 and o.box[1] + o.box[3] > r0:
+                level_boxes[columns(o.box[0], o.box[2])] = True
             ox, oy, ow, oh = self._core(o.box)
             if oy < r1 and oy + oh > r0:
-                span = slice(max(0, int(ox)), max(0, int(np.ceil(ox + ow))))
-                in_front = y + h > o.box[1] + o.box[3] + c.pixel_front * h
+                span = columns(ox, ow)
                 if own_segment and o.box[1] + o.box[3] > y + h + c.pixel_front * h:
                     continue  # o stands in front: its skeleton was a background seed
                 cores[span] = np.where(cores[span] < 0, -1, 1 if in_front else -1)

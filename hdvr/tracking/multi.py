@@ -1145,6 +1145,12 @@ class MultiDancerTracker(ReportedExtent):
         return all(self._bodies_overlap(box, o.box) <= self.config.overlap_threshold
                    for o in self.dancers if o is not d and o.status != OUT)
 
+    @staticmethod
+    def _wider_than(box, d: DancerTrack, factor: float) -> bool:
+        """Whether ``box`` (x, y, w, h px) is more than ``factor`` x as wide for its height as dancer ``d``'s box: then
+        it is a part of a dancer that YOLO drew as a person (e.g. an upper body with spread arms), not ``d``."""
+        return box[2] / box[3] > factor * d.box[2] / d.box[3]
+
     def _shows_someone(self, frame, d: DancerTrack, boxes) -> list[bool]:
         """For each of ``boxes`` (x, y, w, h px) where occluded dancer ``d`` might be: whether at least
         ``patch_min_foreground`` of its pixels outside the boxes of the other dancers in the frame (their
@@ -1227,7 +1233,7 @@ class MultiDancerTracker(ReportedExtent):
             best, best_distance = None, c.emerge_distance * d.box[3]
             for k, det in enumerate(dets):
                 if k in taken or not 1 / c.max_height_change <= det[3] / d.box[3] <= c.max_height_change \
-                        or det[2] / det[3] > c.emerge_max_aspect * d.box[2] / d.box[3] \
+                        or self._wider_than(det, d, c.emerge_max_aspect) \
                         or any(self._bodies_overlap(det, o.box) > c.overlap_threshold for o in self.dancers
                                if o is not d and o.status != OUT):
                     continue
@@ -1335,7 +1341,7 @@ class MultiDancerTracker(ReportedExtent):
             # dancer without a detection, e.g. its upper body with spread arms)
             boxes = [box for box in boxes if tuple(box) not in box_rivals
                      or (1 / c.reid_unheld_height <= box[3] / d.box[3] <= c.reid_unheld_height
-                         and box[2] / box[3] <= c.reid_unheld_aspect * d.box[2] / d.box[3])]
+                         and not self._wider_than(box, d, c.reid_unheld_aspect))]
             boxes = [box for box in boxes if 1 / c.reid_height_change
                      <= self._feet_hidden(d, box)[3] / d.box[3] <= c.reid_height_change]
             candidates.append((d, boxes + ([own] if clear(own, False) else [])))
