@@ -211,6 +211,12 @@ class MultiTrackerConfig:
     # seeds 201-212 and 151-199 mean IDF1 0.9740 -> 0.9753 (seed 201 tango 0.867 -> 1.000), switches unchanged;
     # seeds 7-139 0.9854 -> 0.9855; groups of 6-8 0.9461 -> 0.9456
     group_shared_inside: float = 0.6  # ... which holds at least this fraction of each dancer's body core
+    group_reshape_after: int = 2  # a dancer in a group, in front of every dancer it overlaps, whose box has a floor
+    # shape while its unambiguous detection has shown an upright person on this many detector frames in a row takes
+    # that detection's aspect at its box's height (:meth:`MultiDancerTracker._reshape_in_group`); 0: off. Cached
+    # synthetic clips: 1 of 936 changes (seed 1512 hip-hop 0.642 -> 0.810; docs/tracking.md, session 27)
+    group_reshape_min_aspect: float = 1.0  # ... "floor shape": the box at least this wide for its height
+    group_reshape_aspect: float = 1.3  # ... "upright": the detection's width / height this factor below the box's
     pose_extent: bool = True  # the reported box of a dancer extends to the box of the pose Algorithm 2* chose for
     # it where that reaches further (spread arms), when the choice is clear (:meth:`MultiDancerTracker.extend_to_poses`)
     pose_margin: float = 0.2  # ... the pose's selection score better by this for the dancer than for any other
@@ -556,6 +562,8 @@ class MultiDancerTracker(ReportedExtent):
             self._adapt_in_group(frame, group, detections, weak)
         if detections is not None and c.group_scale:
             self._scale_groups(group, detections, weak)
+        if detections is not None and c.group_reshape_after:
+            self._reshape_in_group(frame, group, detections)
         if c.emerge_hidden_starts:  # sure finds first, then weak ones (also on a frame without a sure one)
             front_histograms = {}  # shared by both calls: the colours of the boxes of the dancers in front
             if detections:
@@ -1036,6 +1044,37 @@ class MultiDancerTracker(ReportedExtent):
             factor = float(np.exp(c.group_scale_adaptation * log_change))
             for m in members:
                 m.box = box_at(box_centre(m.box), (0.0, 0.0, m.box[2] * factor, m.box[3] * factor))
+
+    def _reshape_in_group(self, frame, group: list[DancerTrack], detections) -> None:
+        """A dancer of ``group`` (tracked, overlapping others) whose box has a floor shape (at least
+        ``group_reshape_min_aspect`` x its height wide) while its unambiguous sure detection
+        (:meth:`_unambiguous_assignment`) shows an upright person (width / height ``group_reshape_aspect`` below the
+        box's) on ``group_reshape_after`` detector frames in a row, and which stands in front of every dancer it
+        overlaps (the detection shows all of it), takes the detection's aspect at its box's height, centred on the
+        detection. Group scaling keeps a box's aspect, so a box that took a floor shape (a dancer down, or two
+        dancers drawn as one person) kept it for as long as the dancer overlapped others (seed 1512 hip-hop)."""
+        c = self.config
+        for d in self.dancers:
+            if d not in group:
+                d.reshape_streak = 0
+        if not group:
+            return
+        assigned = self._unambiguous_assignment(detections)
+        boxes = [o.box if o.status == TRACKED else self._predicted_box(o, self.frame_index) for o in self.dancers]
+        for d in group:
+            det = assigned.get(d.dancer_id)
+            box_aspect = d.box[2] / d.box[3]
+            upright = det is not None and box_aspect >= c.group_reshape_min_aspect and \
+                box_aspect / (det[2] / det[3]) > c.group_reshape_aspect and \
+                1 / c.max_height_change <= det[3] / d.box[3] <= c.max_height_change
+            in_front = all(stands_in_front(d.box, self.dancers[j].box, c.pixel_front)
+                           for j in self._overlapping(self.dancers.index(d), boxes))
+            d.reshape_streak = d.reshape_streak + 1 if upright and in_front else 0
+            if d.reshape_streak >= c.group_reshape_after:
+                width = d.box[3] * det[2] / det[3]
+                d.box = (det[0] + det[2] / 2 - width / 2, d.box[1], width, d.box[3])
+                d.offset = box_centre(d.box) - np.asarray(d.tracker.center, float)
+                d.reshape_streak = 0
 
     def _shared_detection(self, members: list[DancerTrack], detections):
         """The one detection (x, y, w, h px) that holds the body cores of all ``members`` (each at least
