@@ -1124,9 +1124,9 @@ def test_a_dancer_in_front_gets_up_from_the_floor_shape_its_box_kept_in_a_group(
     upright, behind_det = (300.0, 180.0, 100.0, 210.0), (300.0, 118.0, 62.0, 152.0)
     tracker = MultiDancerTracker(frame, [floor, behind], MultiTrackerConfig(group_reshape_after=2))
     front = tracker.dancers[0]
-    tracker._reshape_in_group(frame, tracker.dancers, [upright, behind_det])
+    tracker._reshape_in_group(tracker.dancers, [upright, behind_det])
     assert front.box == floor  # one detector frame is not enough
-    tracker._reshape_in_group(frame, tracker.dancers, [upright, behind_det])
+    tracker._reshape_in_group(tracker.dancers, [upright, behind_det])
     x, y, w, h = front.box
     assert (y, h) == (200.0, 170.0) and w == pytest.approx(170.0 * 100.0 / 210.0)
     assert x + w / 2 == pytest.approx(350.0)  # centred on the detection
@@ -1135,12 +1135,12 @@ def test_a_dancer_in_front_gets_up_from_the_floor_shape_its_box_kept_in_a_group(
     upright_box = (270.0, 200.0, 120.0, 170.0)
     tracker = MultiDancerTracker(frame, [upright_box, behind], MultiTrackerConfig(group_reshape_after=2))
     for _ in range(3):
-        tracker._reshape_in_group(frame, tracker.dancers, [(300.0, 180.0, 60.0, 210.0), behind_det])
+        tracker._reshape_in_group(tracker.dancers, [(300.0, 180.0, 60.0, 210.0), behind_det])
     assert tracker.dancers[0].box == upright_box
     # nor that of a dancer with another standing in front of it (the detection may show only its part above)
     closer, further = (290.0, 160.0, 40.0, 230.0), (290.0, 140.0, 40.0, 200.0)  # box bottoms 20 px lower, 30 higher
     for other, reshaped in ((closer, False), (further, True)):
         tracker = MultiDancerTracker(frame, [floor, other], MultiTrackerConfig(group_reshape_after=2))
         for _ in range(2):  # the detection does not cover the other dancer's centre line: it is the floor dancer's
-            tracker._reshape_in_group(frame, tracker.dancers, [(335.0, 180.0, 90.0, 210.0), other])
+            tracker._reshape_in_group(tracker.dancers, [(335.0, 180.0, 90.0, 210.0), other])
         assert (tracker.dancers[0].box != floor) == reshaped, other

@@ -563,7 +563,7 @@ class MultiDancerTracker(ReportedExtent):
         if detections is not None and c.group_scale:
             self._scale_groups(group, detections, weak)
         if detections is not None and c.group_reshape_after:
-            self._reshape_in_group(frame, group, detections)
+            self._reshape_in_group(group, detections)
         if c.emerge_hidden_starts:  # sure finds first, then weak ones (also on a frame without a sure one)
             front_histograms = {}  # shared by both calls: the colours of the boxes of the dancers in front
             if detections:
@@ -1045,7 +1045,7 @@ class MultiDancerTracker(ReportedExtent):
             for m in members:
                 m.box = box_at(box_centre(m.box), (0.0, 0.0, m.box[2] * factor, m.box[3] * factor))
 
-    def _reshape_in_group(self, frame, group: list[DancerTrack], detections) -> None:
+    def _reshape_in_group(self, group: list[DancerTrack], detections) -> None:
         """A dancer of ``group`` (tracked, overlapping others) whose box has a floor shape (at least
         ``group_reshape_min_aspect`` x its height wide) while its unambiguous sure detection
         (:meth:`_unambiguous_assignment`) shows an upright person (width / height ``group_reshape_aspect`` below the

@@ -53,8 +53,8 @@ class DancerTrack:
     group_reference: tuple[float, float, bool] | None = None  # (height of its detection, of its box) px when its
     # group's scale was first measured, and whether that detection was one shared by the group
     # (:meth:`hdvr.tracking.multi.MultiDancerTracker._scale_groups`); None while clear
-    reshape_streak: int = 0  # detector frames in a row in which its detection had another shape than its box while
-    # it overlapped others (:meth:`hdvr.tracking.multi.MultiDancerTracker._reshape_in_group`)
+    reshape_streak: int = 0  # detector frames in a row in which its detection showed an upright person while its
+    # box had a floor shape and it overlapped others (:meth:`hdvr.tracking.multi.MultiDancerTracker._reshape_in_group`)
 
     @property
     def body_center(self) -> np.ndarray:
