@@ -1144,3 +1144,30 @@ def test_a_dancer_in_front_gets_up_from_the_floor_shape_its_box_kept_in_a_group(
         for _ in range(2):  # the detection does not cover the other dancer's centre line: it is the floor dancer's
             tracker._reshape_in_group(tracker.dancers, [(335.0, 180.0, 90.0, 210.0), other])
         assert (tracker.dancers[0].box != floor) == reshaped, other
+
+
+def test_a_dancer_beside_a_partner_follows_her_detection_s_height():
+    """A clear dancer's one detection is refused as hers alone when its body core overlaps another dancer's (a box
+    around two people). Beside a partner with an arm out towards her, the detection is still hers when the partner
+    is tracked clear of her, does not stand in front of her, and holds a detection of her own; then the box's height
+    follows it (``adapt_beside_partner``), keeping its bottom and width. A swing couple side by side walking towards
+    the camera kept boxes 187 px tall while the dancers grew to 256 px (hdvr synth seed 1207 swing: 0.808 -> 0.975)."""
+    frame = np.random.default_rng(5).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    her, partner = (200.0, 100.0, 60.0, 180.0), (290.0, 110.0, 60.0, 170.0)
+    detection, partners_own = (200.0, 80.0, 130.0, 220.0), (292.0, 108.0, 58.0, 172.0)
+    tracker = MultiDancerTracker(frame, [her, partner])
+    d = tracker.dancers[0]
+    assert not tracker._single_person(d, detection)  # its core reaches the partner's
+    assert tracker._beside_partner(d, detection, [detection, partners_own])
+    assert not tracker._beside_partner(d, detection, [detection])  # perhaps a box around both
+    assert not tracker._beside_partner(d, (200.0, 0.0, 130.0, 300.0), [(200.0, 0.0, 130.0, 300.0), partners_own])
+    low = (200.0, 300.0, 60.0, 180.0)  # the same with her feet on the frame's bottom edge: the detection is cut
+    at_edge = MultiDancerTracker(frame, [low, (290.0, 310.0, 60.0, 170.0)])
+    assert not at_edge._beside_partner(at_edge.dancers[0], (200.0, 280.0, 130.0, 200.0),
+                                       [(200.0, 280.0, 130.0, 200.0), (292.0, 308.0, 58.0, 172.0)])
+    closer = MultiDancerTracker(frame, [her, (290.0, 110.0, 60.0, 200.0)])  # the partner's feet 30 px lower
+    assert not closer._beside_partner(closer.dancers[0], detection, [detection, (292.0, 108.0, 58.0, 202.0)])
+    tracker._adapt_height(d, detection)
+    x, y, w, h = d.box
+    assert (x, w, y + h) == (200.0, 60.0, 280.0)
+    assert h == pytest.approx(0.7 * 180.0 + 0.3 * 220.0)  # box_adaptation 0.3 of the way

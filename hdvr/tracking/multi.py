@@ -166,6 +166,10 @@ class MultiTrackerConfig:
     adapt_max_foreground: float = 0.2  # ... and its columns beside the detection are background (at most this
     # fraction with a limb's worth of foreground: :meth:`_empty_around`)
     max_height_change: float = 1.6  # a detection this much taller or shorter than a dancer's box is not it
+    adapt_beside_partner: bool = True  # a clear dancer whose one detection is refused as hers alone only because its
+    # body core overlaps a partner's beside her (tracked, clear of her, not in front, holding a detection of her
+    # own) adapts her box's height to it, keeping its bottom and width (:meth:`MultiDancerTracker._beside_partner`).
+    # Cached synthetic clips: seed 1207 swing 0.808 -> 0.975, 13 others within 0.021 (docs/tracking.md, session 27)
     jump_rivals: bool = True  # a lost dancer jumps to a detected person only if it matches its memory by
     # ``reid_margin`` better than every other dancer's (:meth:`MultiDancerTracker._jump_to_detection`); without, a
     # dancer at the back of hdvr synth seed 406 ballet jumped onto a lost dancer passing in front (2 switches)
@@ -536,6 +540,10 @@ class MultiDancerTracker(ReportedExtent):
                         self._single_person(d, matches[0]):
                     self._adapt_box(d, frame, matches[0])
                     d.adapted_at = t
+                elif c.adapt_beside_partner and len(matches) == 1 and \
+                        box_iou(d.box, matches[0]) > c.adapt_min_iou and \
+                        self._beside_partner(d, matches[0], detections):
+                    self._adapt_height(d, matches[0])
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
                     continue
@@ -816,6 +824,40 @@ class MultiDancerTracker(ReportedExtent):
         return (1 / change <= ratio <= change and detection[2] <= c.max_person_width * d.box[3]
                 and all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold
                         for o in self.dancers if o is not d))
+
+    def _beside_partner(self, d: DancerTrack, detection, detections) -> bool:
+        """Whether ``detection`` (x, y, w, h px), refused as dancer ``d`` alone because its body core overlaps
+        another dancer's (:meth:`_single_person`), is still ``d``'s: its height is within ``max_height_change`` of
+        ``d``'s box, neither it nor the box reaches the frame's top or bottom (a dancer cut by the frame), and every
+        dancer whose core it overlaps is tracked, clear of ``d`` (cores apart), not standing in front of ``d`` (the
+        detection then shows all of ``d``), and holds a detection of its own (another one that fits its box by
+        ``group_min_score``: :meth:`_fit_score`). A dancer beside a partner, an arm out towards her, not a box
+        around both (which would leave the partner without a detection of her own)."""
+        c, height = self.config, self.frame_size[1]
+        if not 1 / c.max_height_change <= detection[3] / d.box[3] <= c.max_height_change or \
+                min(detection[1], d.box[1]) <= c.exit_edge_px or \
+                max(detection[1] + detection[3], d.box[1] + d.box[3]) >= height - c.exit_edge_px:
+            return False  # a dancer cut by the frame's top or bottom: the detection does not give her height
+        for o in self.dancers:
+            if o is d or o.status == OUT or self._bodies_overlap(detection, o.box) <= c.overlap_threshold:
+                continue
+            if o.status != TRACKED or self._bodies_overlap(d.box, o.box) > c.overlap_threshold or \
+                    stands_in_front(o.box, d.box, c.pixel_front):
+                return False
+            if not any(tuple(other) != tuple(detection) and self._fit_score(o.box, other) >= c.group_min_score
+                       for other in detections):
+                return False
+        return True
+
+    def _adapt_height(self, d: DancerTrack, detection) -> None:
+        """The height of dancer ``d``'s box moves ``box_adaptation`` of the way towards that of ``detection`` (times
+        the dancer's learned height ratio of box to detection, ``size_ratio``); the box keeps its bottom (the feet)
+        and width (the detection's width holds an arm out towards a partner)."""
+        c = self.config
+        ratio = d.size_ratio[1] if d.size_ratio is not None else 1.0
+        height = (1 - c.box_adaptation) * d.box[3] + c.box_adaptation * ratio * float(detection[3])
+        x, y, w, h = d.box
+        d.box = (x, y + h - height, w, height)
 
     def _empty_around(self, frame, d: DancerTrack, detection) -> bool:
         """Whether the columns of dancer ``d``'s box beside ``detection`` (x, y, w, h px) are background (fewer than
