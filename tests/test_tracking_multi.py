@@ -1160,6 +1160,8 @@ def test_a_dancer_beside_a_partner_follows_her_detection_s_height():
     assert not tracker._single_person(d, detection)  # its core reaches the partner's
     assert tracker._beside_partner(d, detection, [detection, partners_own])
     assert not tracker._beside_partner(d, detection, [detection])  # perhaps a box around both
+    wide = (0.0, 80.0, 630.0, 220.0)  # wider than 2 x her height: YOLO's box across the frame
+    assert not tracker._beside_partner(d, wide, [wide, partners_own])
     assert not tracker._beside_partner(d, (200.0, 0.0, 130.0, 300.0), [(200.0, 0.0, 130.0, 300.0), partners_own])
     low = (200.0, 300.0, 60.0, 180.0)  # the same with her feet on the frame's bottom edge: the detection is cut
     at_edge = MultiDancerTracker(frame, [low, (290.0, 310.0, 60.0, 170.0)])

@@ -828,26 +828,26 @@ class MultiDancerTracker(ReportedExtent):
     def _beside_partner(self, d: DancerTrack, detection, detections) -> bool:
         """Whether ``detection`` (x, y, w, h px), refused as dancer ``d`` alone because its body core overlaps
         another dancer's (:meth:`_single_person`), is still ``d``'s: its height is within ``max_height_change`` of
-        ``d``'s box, neither it nor the box reaches the frame's top or bottom (a dancer cut by the frame), and every
-        dancer whose core it overlaps is tracked, clear of ``d`` (cores apart), not standing in front of ``d`` (the
-        detection then shows all of ``d``), and holds a detection of its own (another one that fits its box by
-        ``group_min_score``: :meth:`_fit_score`). A dancer beside a partner, an arm out towards her, not a box
-        around both (which would leave the partner without a detection of her own)."""
+        ``d``'s box and it is at most ``max_person_width`` x that height wide, neither it nor the box reaches the
+        frame's top or bottom (a dancer cut by the frame), and it overlaps the core of at least one dancer, every one
+        of them tracked, clear of ``d`` (cores apart), not standing in front of ``d`` (the detection then shows all
+        of ``d``), and holding a detection of its own (another one that fits its box by ``group_min_score``:
+        :meth:`_fit_score`). A dancer beside a partner, an arm out towards her, not a box around both (which would
+        leave the partner without a detection of her own)."""
         c, height = self.config, self.frame_size[1]
         if not 1 / c.max_height_change <= detection[3] / d.box[3] <= c.max_height_change or \
+                detection[2] > c.max_person_width * d.box[3] or \
                 min(detection[1], d.box[1]) <= c.exit_edge_px or \
                 max(detection[1] + detection[3], d.box[1] + d.box[3]) >= height - c.exit_edge_px:
             return False  # a dancer cut by the frame's top or bottom: the detection does not give her height
-        for o in self.dancers:
-            if o is d or o.status == OUT or self._bodies_overlap(detection, o.box) <= c.overlap_threshold:
-                continue
-            if o.status != TRACKED or self._bodies_overlap(d.box, o.box) > c.overlap_threshold or \
-                    stands_in_front(o.box, d.box, c.pixel_front):
-                return False
-            if not any(tuple(other) != tuple(detection) and self._fit_score(o.box, other) >= c.group_min_score
-                       for other in detections):
-                return False
-        return True
+        partners = [o for o in self.dancers if o is not d and o.status != OUT
+                    and self._bodies_overlap(detection, o.box) > c.overlap_threshold]
+        return bool(partners) and all(
+            o.status == TRACKED and self._bodies_overlap(d.box, o.box) <= c.overlap_threshold
+            and not stands_in_front(o.box, d.box, c.pixel_front)
+            and any(tuple(other) != tuple(detection) and self._fit_score(o.box, other) >= c.group_min_score
+                    for other in detections)
+            for o in partners)
 
     def _adapt_height(self, d: DancerTrack, detection) -> None:
         """The height of dancer ``d``'s box moves ``box_adaptation`` of the way towards that of ``detection`` (times
