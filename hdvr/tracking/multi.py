@@ -819,11 +819,16 @@ class MultiDancerTracker(ReportedExtent):
         neither), and it is at most ``max_person_width`` x that height wide (a person's arm span is about their
         stature; the detector sometimes returns a box across the whole frame)."""
         c = self.config
+        return self._person_sized(d, detection, max_height_change) and \
+            all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold for o in self.dancers if o is not d)
+
+    def _person_sized(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
+        """Whether ``detection`` (x, y, w, h px) has the size of dancer ``d`` alone: its height within
+        ``max_height_change`` (default: the config's) of ``d``'s box height, its width at most ``max_person_width``
+        x that height (the size tests of :meth:`_single_person` and :meth:`_beside_partner`)."""
+        c = self.config
         change = max_height_change or c.max_height_change
-        ratio = detection[3] / d.box[3]
-        return (1 / change <= ratio <= change and detection[2] <= c.max_person_width * d.box[3]
-                and all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold
-                        for o in self.dancers if o is not d))
+        return 1 / change <= detection[3] / d.box[3] <= change and detection[2] <= c.max_person_width * d.box[3]
 
     def _beside_partner(self, d: DancerTrack, detection, detections) -> bool:
         """Whether ``detection`` (x, y, w, h px), refused as dancer ``d`` alone because its body core overlaps
@@ -835,9 +840,7 @@ class MultiDancerTracker(ReportedExtent):
         :meth:`_fit_score`). A dancer beside a partner, an arm out towards her, not a box around both (which would
         leave the partner without a detection of her own)."""
         c, height = self.config, self.frame_size[1]
-        if not 1 / c.max_height_change <= detection[3] / d.box[3] <= c.max_height_change or \
-                detection[2] > c.max_person_width * d.box[3] or \
-                min(detection[1], d.box[1]) <= c.exit_edge_px or \
+        if not self._person_sized(d, detection) or min(detection[1], d.box[1]) <= c.exit_edge_px or \
                 max(detection[1] + detection[3], d.box[1] + d.box[3]) >= height - c.exit_edge_px:
             return False  # a dancer cut by the frame's top or bottom: the detection does not give her height
         partners = [o for o in self.dancers if o is not d and o.status != OUT
