@@ -124,11 +124,12 @@ class MultiTrackerConfig:
     reid_unheld_height: float = 1.3  # ... if its height is within this factor of the occluded dancer's box
     reid_unheld_aspect: float = 2.0  # ... and its width / height at most this factor of the occluded dancer's box's
     # (a wider box there is a part of that dancer drawn apart, e.g. its upper body with spread arms)
-    reid_height_change: float = 2.0  # re-identification takes no detection this much taller or shorter than the
+    reid_height_change: float = 1.25  # re-identification takes no detection this much taller or shorter than the
     # dancer's box, its bottom made good where a dancer in front hides it (:meth:`_feet_hidden`). A box about a
     # dancer's head and spread arms, a third of its height, took hdvr synth seed 901 swing's dancer in front for the
-    # rest of the clip (IDF1 0.750 -> 1.000); 1.6, as elsewhere, also lost seed 208 tango (0.983 -> 0.879: a couple
-    # walking away, whose boxes had not shrunk yet)
+    # rest of the clip (IDF1 0.750 -> 1.000 with 2.0). Session 28, 2.0 -> 1.25: a dancer occluded for a frame or
+    # two was taken again on a detection 0.72-0.77 x her height, the dancer behind's upper body (seed 707 hip-hop
+    # 0.539 -> 0.731) or a floor shape (1512 hip-hop 0.810 -> 0.967); 936 clips 0.9763 -> 0.9767 (docs/benchmarks.md)
     weak_detections: bool = True  # weak finds (:class:`hdvr.pose2d.base.PersonPose` ``weak``: scored between the
     # detector's weak and sure thresholds, mostly people partly hidden by another) update the boxes of dancers
     # followed, clear or in a group, and let a dancer that starts hidden come out; they never find a lost or occluded
