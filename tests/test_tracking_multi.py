@@ -911,6 +911,25 @@ def test_a_dancer_relocated_on_a_patch_keeps_the_patch_s_bottom():
         assert d.box[3] == pytest.approx(198.0)
 
 
+def test_relocation_takes_no_detection_of_another_height():
+    """Relocation, like re-identification, takes no detection in the cone more than ``reid_height_change`` x taller
+    or shorter than the dancer's box (``relocate_height_change``): hdvr synth seed 807 hip-hop, a dancer 355 px
+    tall was relocated onto a 347 x 253 px box around two dancers (IDF1 0.878 -> 0.908 without)."""
+    rng = np.random.default_rng(12)
+    start, other = (100.0, 100.0, 60.0, 200.0), (500.0, 100.0, 60.0, 200.0)
+    red, blue, green = (30, 40, 210), (200, 60, 40), (60, 170, 80)
+    frame = _two_colour_frame(rng, [(start, (red, blue)), (other, (green, green))])
+    for height, rule, taken in ((140.0, True, False), (140.0, False, True), (180.0, True, True)):
+        ahead = (215.0, 300.0 - height, 60.0, height)  # 120 px along the motion, standing on the same floor line
+        later = _two_colour_frame(rng, [(ahead, (red, blue)), (other, (green, green))])
+        tracker = MultiDancerTracker(frame, [start, other], MultiTrackerConfig(relocate_height_change=rule))
+        d = tracker.dancers[0]
+        d.status, d.stored_velocity = OCCLUDED, np.array([4.0, 0.0])  # px/frame to the right
+        tracker.frame_index = 30
+        tracker._relocate(d, later, [ahead], force=True)
+        assert (d.box == ahead) == taken, (height, rule, d.box)
+
+
 def test_the_cone_search_gives_its_patches_and_the_detections_in_the_cone_apart():
     """Relocation looks for an occluded dancer along its stored motion: patches of its stored box size in a cone
     about the direction of travel, and the detections inside that cone (a detection behind the dancer is not one).

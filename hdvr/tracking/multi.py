@@ -130,6 +130,10 @@ class MultiTrackerConfig:
     # rest of the clip (IDF1 0.750 -> 1.000 with 2.0). Session 28, 2.0 -> 1.25: a dancer occluded for a frame or
     # two was taken again on a detection 0.72-0.77 x her height, the dancer behind's upper body (seed 707 hip-hop
     # 0.539 -> 0.731) or a floor shape (1512 hip-hop 0.810 -> 0.967); 936 clips 0.9763 -> 0.9767 (docs/benchmarks.md)
+    relocate_height_change: bool = True  # relocation, too, takes no detection ``reid_height_change`` x taller or
+    # shorter than the dancer's box (bottom made good behind a dancer in front). Session 28: seed 807 hip-hop, a
+    # dancer relocated onto a 347 x 253 px box around two dancers while her box was 275 x 355 (0.878 -> 0.908; no
+    # other clip of 936 changed)
     weak_detections: bool = True  # weak finds (:class:`hdvr.pose2d.base.PersonPose` ``weak``: scored between the
     # detector's weak and sure thresholds, mostly people partly hidden by another) update the boxes of dancers
     # followed, clear or in a group, and let a dancer that starts hidden come out; they never find a lost or occluded
@@ -1207,8 +1211,16 @@ class MultiDancerTracker(ReportedExtent):
         return False
 
     def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
+        """Occluded dancer ``d`` is taken again on the candidate (x, y, w, h px) whose colours match its memory
+        best: the cone's patches that show someone (:meth:`_cone_candidates`, :meth:`_shows_someone`), the
+        ``detections`` in the cone within ``reid_height_change`` of its box height (``relocate_height_change``) and
+        ``extra`` (its own tracker's box); none that is another tracked dancer's (IoU > 0.5). Below
+        ``relocate_min_similarity`` it stays occluded, unless ``force``."""
         c = self.config
         patches, found = self._cone_candidates(d, detections)
+        if c.relocate_height_change:  # as in re-identification: a detection of another height is someone else
+            found = [det for det in found if 1 / c.reid_height_change
+                     <= self._feet_hidden(d, det)[3] / d.box[3] <= c.reid_height_change]
         # the cone's patches are guesses, and those on background are no candidates; the dancer's own tracker
         # (``extra``) and the detections saw something there
         candidates = [b for b, shows in zip(patches, self._shows_someone(frame, d, patches)) if shows] + found + \
