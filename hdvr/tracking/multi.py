@@ -1210,6 +1210,13 @@ class MultiDancerTracker(ReportedExtent):
                 return True
         return False
 
+    def _height_fits(self, d: DancerTrack, detection) -> bool:
+        """Whether ``detection`` (x, y, w, h px), its bottom made good where a dancer in front hides the legs
+        (:meth:`_feet_hidden`), is within ``reid_height_change`` of occluded dancer ``d``'s box height: a candidate
+        of re-identification and relocation."""
+        change = self.config.reid_height_change
+        return 1 / change <= self._feet_hidden(d, detection)[3] / d.box[3] <= change
+
     def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
         """Occluded dancer ``d`` is taken again on the candidate (x, y, w, h px) whose colours match its memory
         best: the cone's patches that show someone (:meth:`_cone_candidates`, :meth:`_shows_someone`), the
@@ -1219,8 +1226,7 @@ class MultiDancerTracker(ReportedExtent):
         c = self.config
         patches, found = self._cone_candidates(d, detections)
         if c.relocate_height_change:  # as in re-identification: a detection of another height is someone else
-            found = [det for det in found if 1 / c.reid_height_change
-                     <= self._feet_hidden(d, det)[3] / d.box[3] <= c.reid_height_change]
+            found = [det for det in found if self._height_fits(d, det)]
         # the cone's patches are guesses, and those on background are no candidates; the dancer's own tracker
         # (``extra``) and the detections saw something there
         candidates = [b for b, shows in zip(patches, self._shows_someone(frame, d, patches)) if shows] + found + \
@@ -1439,8 +1445,7 @@ class MultiDancerTracker(ReportedExtent):
             boxes = [box for box in boxes if tuple(box) not in box_rivals
                      or (1 / c.reid_unheld_height <= box[3] / d.box[3] <= c.reid_unheld_height
                          and not self._wider_than(box, d, c.reid_unheld_aspect))]
-            boxes = [box for box in boxes if 1 / c.reid_height_change
-                     <= self._feet_hidden(d, box)[3] / d.box[3] <= c.reid_height_change]
+            boxes = [box for box in boxes if self._height_fits(d, box)]
             candidates.append((d, boxes + ([own] if clear(own, False) else [])))
         for d, box, score in self._histogram_matches(frame, candidates, occluded, box_rivals):
             self._take(d, box, score, seen_part=tuple(box) in dets)
