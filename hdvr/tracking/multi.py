@@ -309,6 +309,11 @@ def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(np.dot(a, b) / (na * nb), -1.0, 1.0))))
 
 
+def _height_within(box, reference, factor: float) -> bool:
+    """Whether (x, y, w, h px) ``box`` is at most ``factor`` x taller or shorter than ``reference``."""
+    return 1 / factor <= box[3] / reference[3] <= factor
+
+
 def _shift(box, d) -> tuple[float, float, float, float]:
     return (box[0] + float(d[0]), box[1] + float(d[1]), box[2], box[3])
 
@@ -441,6 +446,10 @@ class MultiDancerTracker(ReportedExtent):
         return [j for j in range(len(boxes)) if j != i and self.dancers[j].status != OUT
                 and self._bodies_overlap(boxes[i], boxes[j]) > self.config.overlap_threshold]
 
+    def _boxes_now(self, dancers: list[DancerTrack]) -> list:
+        """Where each of ``dancers`` is in this frame, (x, y, w, h px): its box if tracked, else its predicted box."""
+        return [d.box if d.status == TRACKED else self._predicted_box(d, self.frame_index) for d in dancers]
+
     def _predicted_box(self, d: DancerTrack, frame_index: int):
         return _shift(d.stored_box, d.stored_velocity * (frame_index - d.stored_frame))
 
@@ -522,8 +531,7 @@ class MultiDancerTracker(ReportedExtent):
         for i, d in enumerate(self.dancers):
             if d.status != TRACKED:
                 continue
-            overlapping = self._overlapping(i, [dd.box if dd.status == TRACKED else self._predicted_box(dd, t)
-                                                for dd in self.dancers])
+            overlapping = self._overlapping(i, self._boxes_now(self.dancers))
             if not overlapping and detections is not None:
                 def on_box(det, box=d.box) -> bool:
                     return box_overlap(box, det) > 0.5 and box_iou(box, det) > 0.2
@@ -728,7 +736,7 @@ class MultiDancerTracker(ReportedExtent):
         unseen = [o for o in self.dancers if o.status != TRACKED]
         # a box of another height is a hand or a leg reaching into the frame
         candidates = [(d, [box for box in free
-                           if 1 / c.max_height_change <= box[3] / d.stored_box[3] <= c.max_height_change])
+                           if _height_within(box, d.stored_box, c.max_height_change)])
                       for d in out]
         for d, box, score in self._histogram_matches(frame, candidates, unseen):
             self._back_in_frame(d, frame, box, score)
@@ -833,7 +841,7 @@ class MultiDancerTracker(ReportedExtent):
         x that height (the size tests of :meth:`_single_person` and :meth:`_beside_partner`)."""
         c = self.config
         change = max_height_change or c.max_height_change
-        return 1 / change <= detection[3] / d.box[3] <= change and detection[2] <= c.max_person_width * d.box[3]
+        return _height_within(detection, d.box, change) and detection[2] <= c.max_person_width * d.box[3]
 
     def _beside_partner(self, d: DancerTrack, detection, detections) -> bool:
         """Whether ``detection`` (x, y, w, h px), refused as dancer ``d`` alone because its body core overlaps
@@ -982,7 +990,7 @@ class MultiDancerTracker(ReportedExtent):
         assigned = self._unambiguous_detections(detections, weak)
         for d in group:
             det = assigned.get(d.dancer_id)
-            if det is not None and 1 / c.max_height_change <= det[3] / d.box[3] <= c.max_height_change:
+            if det is not None and _height_within(det, d.box, c.max_height_change):
                 self._adapt_box(d, frame, det, c.group_adaptation, retrack=False)
 
     def _unambiguous_detections(self, detections, weak=()) -> dict[int, tuple[float, float, float, float]]:
@@ -1004,7 +1012,7 @@ class MultiDancerTracker(ReportedExtent):
         live = [d for d in self.dancers if d.status != OUT]
         if not dets or not live:
             return {}
-        boxes = [d.box if d.status == TRACKED else self._predicted_box(d, self.frame_index) for d in live]
+        boxes = self._boxes_now(live)
         score, pairs = self._fit_assignment(boxes, dets)
         assigned = {}
         for i, k in pairs:
@@ -1110,13 +1118,13 @@ class MultiDancerTracker(ReportedExtent):
         if not group:
             return
         assigned = self._unambiguous_assignment(detections)
-        boxes = [o.box if o.status == TRACKED else self._predicted_box(o, self.frame_index) for o in self.dancers]
+        boxes = self._boxes_now(self.dancers)
         for d in group:
             det = assigned.get(d.dancer_id)
             box_aspect = d.box[2] / d.box[3]
             upright = det is not None and box_aspect >= c.group_reshape_min_aspect and \
                 box_aspect / (det[2] / det[3]) > c.group_reshape_aspect and \
-                1 / c.max_height_change <= det[3] / d.box[3] <= c.max_height_change
+                _height_within(det, d.box, c.max_height_change)
             in_front = all(stands_in_front(d.box, self.dancers[j].box, c.pixel_front)
                            for j in self._overlapping(self.dancers.index(d), boxes))
             d.reshape_streak = d.reshape_streak + 1 if upright and in_front else 0
@@ -1214,8 +1222,7 @@ class MultiDancerTracker(ReportedExtent):
         """Whether ``detection`` (x, y, w, h px), its bottom made good where a dancer in front hides the legs
         (:meth:`_feet_hidden`), is within ``reid_height_change`` of occluded dancer ``d``'s box height: a candidate
         of re-identification and relocation."""
-        change = self.config.reid_height_change
-        return 1 / change <= self._feet_hidden(d, detection)[3] / d.box[3] <= change
+        return _height_within(self._feet_hidden(d, detection), d.box, self.config.reid_height_change)
 
     def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
         """Occluded dancer ``d`` is taken again on the candidate (x, y, w, h px) whose colours match its memory
@@ -1335,7 +1342,7 @@ class MultiDancerTracker(ReportedExtent):
                                        - c.reid_margin)
             best, best_distance = None, c.emerge_distance * d.box[3]
             for k, det in enumerate(dets):
-                if k in taken or not 1 / c.max_height_change <= det[3] / d.box[3] <= c.max_height_change \
+                if k in taken or not _height_within(det, d.box, c.max_height_change) \
                         or self._wider_than(det, d, c.emerge_max_aspect) \
                         or any(self._bodies_overlap(det, o.box) > c.overlap_threshold for o in self.dancers
                                if o is not d and o.status != OUT):
@@ -1443,7 +1450,7 @@ class MultiDancerTracker(ReportedExtent):
             # figures, or a figure and its shadow, is taller), and not much wider for its height (a part of the
             # dancer without a detection, e.g. its upper body with spread arms)
             boxes = [box for box in boxes if tuple(box) not in box_rivals
-                     or (1 / c.reid_unheld_height <= box[3] / d.box[3] <= c.reid_unheld_height
+                     or (_height_within(box, d.box, c.reid_unheld_height)
                          and not self._wider_than(box, d, c.reid_unheld_aspect))]
             boxes = [box for box in boxes if self._height_fits(d, box)]
             candidates.append((d, boxes + ([own] if clear(own, False) else [])))
