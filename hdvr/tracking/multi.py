@@ -161,6 +161,11 @@ class MultiTrackerConfig:
     hidden_front_rival: bool = True  # while such a dancer waits, the dancer hiding it is one more rival when it is
     # re-identified (its memory shows that dancer: a patch of it would match). Cached synthetic clips: seeds 201-212
     # and 151-199 mean IDF1 0.9578 -> 0.9585, identity switches 23 -> 15; seeds 7-139 and groups of 6-8 unchanged
+    reid_waiting_margin: float = 0.1  # ... but over a dancer still waiting hidden behind the dancer re-identified,
+    # by this margin only: its memory is mostly that dancer's colours (seed 804 hip-hop: 0.83-0.89 against 0.96-0.98,
+    # and the dancer in front stayed occluded to the end, IDF1 0.747 -> 0.972). Cached synthetic clips (936): 4 up,
+    # none down, 0.9767 -> 0.9771; not counting it as a rival at all took a dancer in front on the waiting one (0.90
+    # against 0.85, seed 802 hip-hop 0.861 -> 0.839; docs/tracking.md, session 29)
     hidden_start_overlap: float = 0.5  # a dancer whose body core is this much (intersection / smaller) inside the
     # core of a dancer in front when it starts is started hidden (:meth:`hiding_dancer`; the CLI warns)
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
@@ -752,7 +757,8 @@ class MultiDancerTracker(ReportedExtent):
         ``candidates`` is a list of (dancer, boxes). A box is taken for its dancer when its histogram correlates
         with the dancer's memory at least ``reid_similarity`` and better by ``reid_margin`` than with the memory of
         every other dancer in ``rivals`` (and in ``box_rivals[box]``, dancers that box stands beside; and, with
-        ``hidden_front_rival``, the dancer hiding a dancer that still waits to come out from behind it), and when it
+        ``hidden_front_rival``, the dancer hiding a dancer that still waits to come out from behind it; over a
+        dancer that still waits behind the dancer matched, by ``reid_waiting_margin`` only), and when it
         is clear of the boxes taken before (the dancer in front of a group shows whole and is taken first). Returns
         (dancer, box, similarity) triples."""
         c = self.config
@@ -772,7 +778,8 @@ class MultiDancerTracker(ReportedExtent):
             extra = list((box_rivals or {}).get(tuple(box), []))
             if c.hidden_front_rival and d.hidden_behind is not None:  # its memory shows the dancer in front
                 extra.append(self.dancers[d.hidden_behind])
-            if any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin
+            if any(histogram_similarity(hist, o.stored_histogram) >
+                   score - (c.reid_waiting_margin if o.hidden_behind == d.dancer_id else c.reid_margin)
                    for o in list(rivals) + extra if o is not d):
                 continue
             matches.append((d, box, score))
