@@ -76,6 +76,7 @@ class ReportedExtent:
         c = self.config
         if not c.pose_extent:
             return self.result()
+        self._extent_poses = (poses, margins)  # for the skeleton test of _run_reach
         a = c.pose_adaptation
         size = (frame.shape[1], frame.shape[0])
         fg = self._foreground(frame) if c.pixel_extent else None  # sampled around the tracked boxes
@@ -165,7 +166,10 @@ class ReportedExtent:
         beside the box, or background the sample lacked). Where it reaches another dancer's body core, or such a
         full column inside another dancer's box (``pixel_full_in_box``), it stops, and if that dancer stands level
         with ``d`` or in front (box bottom not ``pixel_front`` x the height higher in the image), that side gets
-        nothing: the limb may be that dancer's, reaching towards ``d``. Zero for a dancer not seen now or standing
+        nothing: the limb may be that dancer's, reaching towards ``d``; unless (``pixel_unexplained_limb``) the pose
+        chosen clearly for that dancer draws no limb on the run (:meth:`_limb_unexplained`) and
+        (``pixel_unexplained_own``) ``d``'s own pose, if chosen clearly, does draw one there: then the run up to
+        that dancer's body core counts. Zero for a dancer not seen now or standing
         straight behind or in front of another (``pose_stack_overlap``).
 
         Written here as a scan over column counts rather than with ``cv2.connectedComponents``: the dancers' own
@@ -177,17 +181,18 @@ class ReportedExtent:
         others = [o for o in self.dancers if o is not d and o.status != OUT]
         if any(self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap for o in others):
             return 0.0, 0.0
-        return self._run_reach(d.box, others, fg)
+        return self._run_reach(d.box, others, fg, dancer=d)
 
     def _run_reach(self, box, others, fg: np.ndarray, limb_box=None, own_segment: bool = False,
-                   rows=None) -> tuple[float, float]:
+                   rows=None, dancer: DancerTrack | None = None) -> tuple[float, float]:
         """The column scan of :meth:`_pixel_reach` from the sides of ``box`` (x, y, w, h px), with the body cores
         of dancers ``others`` as stops: how far (px) foreground runs on to the left and to the right of the box.
         Rows, thickness and reach scale with ``limb_box`` (default ``box``): the box of the dancer whose limb is
         sought; ``rows`` (default ``pixel_band``) are the rows scanned, x its height from its top. With
         ``own_segment`` (``fg`` is this dancer's own segment, :meth:`_grabcut_reach`) only the cores of dancers level
         with it stop the run (that side gets nothing): the segmentation has already left out the bodies of those
-        behind it and in front of it."""
+        behind it and in front of it. ``dancer``: the dancer whose box the run starts from, when the limb sought is
+        its own (for the ``pixel_unexplained_own`` test)."""
         c = self.config
         x, _, w, _ = box
         _, y, _, h = box if limb_box is None else limb_box
@@ -205,7 +210,8 @@ class ReportedExtent:
         def columns(left, span_width) -> slice:
             return slice(max(0, int(left)), max(0, int(np.ceil(left + span_width))))
 
-        for o in others:
+        owner = np.full(width, -1)  # the index (in ``others``) of the dancer whose body core a column lies in
+        for k, o in enumerate(others):
             in_front = y + h > o.box[1] + o.box[3] + c.pixel_front * h  # this dancer stands in front of o
             if not own_segment and not in_front and o.box[1] < r1 and o.box[1] + o.box[3] > r0:
                 level_boxes[columns(o.box[0], o.box[2])] = True
@@ -215,6 +221,7 @@ class ReportedExtent:
                 if own_segment and o.box[1] + o.box[3] > y + h + c.pixel_front * h:
                     continue  # o stands in front: its skeleton was a background seed
                 cores[span] = np.where(cores[span] < 0, -1, 1 if in_front else -1)
+                owner[span] = k
         needed = max(3.0, c.pixel_min_thickness * h)
         full = counts > c.pixel_max_fill * (r1 - r0)
         limit = c.pixel_max_reach * h
@@ -232,7 +239,13 @@ class ReportedExtent:
                     pass  # the limb crosses the body of a dancer behind this one
                 elif cores[col] != 0:  # the run reaches another dancer's body: it stops there, and if that dancer
                     # stands in front or level, the limb may be that dancer's, reaching towards this one
-                    last = last if cores[col] > 0 else 0
+                    strip = (min(col, edge), r0, abs(col - edge) + 1, r1 - r0)
+                    if cores[col] < 0 and not (
+                            c.pixel_unexplained_limb and last and dancer is not None
+                            and not self._hidden_behind(dancer)  # its extent is held: no growth on weak evidence
+                            and self._limb_unexplained(others[owner[col]], strip, fg.shape)
+                            and not (c.pixel_unexplained_own and self._limb_unexplained(dancer, strip, fg.shape))):
+                        last = 0
                     break
                 if counts[col] >= needed:
                     last, gap = min(abs(col - edge) + 1, limit), 0
@@ -243,6 +256,16 @@ class ReportedExtent:
                 col += step
             reach.append(float(last))
         return reach[0], reach[1]
+
+    def _limb_unexplained(self, o: DancerTrack, strip, shape) -> bool:
+        """Whether dancer ``o`` has a pose chosen clearly on this frame (:meth:`_clear_pose`) whose skeleton draws
+        no limb in ``strip`` (x, y, w, h px; ``shape``: the frame's height, width): foreground there is not its limb."""
+        poses, margins = getattr(self, "_extent_poses", ((), ()))
+        j = next((k for k, d in enumerate(self.dancers) if d is o), None)
+        if j is None or not self._clear_pose(j, poses, margins):
+            return False
+        mask = skeleton_mask(poses[j].body25(), strip, (shape[1], shape[0]))
+        return mask is None or not mask.any()
 
     def _clear_pose(self, j: int, poses, margins) -> bool:
         """Whether Algorithm 2* chose a pose for dancer ``j`` clearly (selection margin >= ``pose_margin``)."""
@@ -421,7 +444,7 @@ class ReportedExtent:
         full = np.zeros((height, width), bool)
         full[y0:y1, x0:x1] = mine > 0
         others = [o for o in self.dancers if o is not d and o.status != OUT]
-        return self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows)
+        return self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows, dancer=d)
 
     def _pose_extends(self, d: DancerTrack, pose, margin, poses) -> bool:
         """Whether ``pose``, chosen for dancer ``d`` with selection ``margin``, may extend its reported box (the
