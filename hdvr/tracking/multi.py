@@ -267,8 +267,8 @@ class MultiTrackerConfig:
     pixel_unexplained_limb: bool = True  # a run that reaches the body core of a dancer level or in front is this
     # dancer's limb as far as that body when that dancer's clearly chosen pose (``pose_margin``) draws no limb on the
     # run's columns and rows (else that side gets nothing: the limb may be that dancer's; seed 310 flamenco)
-    pixel_unexplained_own: bool = True  # ... and this dancer's own pose, if chosen clearly, draws a limb there too:
-    # a limb that neither skeleton draws (the detector leaves spread arms out) is either's (seed 405 tango)
+    pixel_unexplained_own: bool = True  # ... and, where this dancer's own pose is chosen clearly, that pose draws a
+    # limb there: a limb that neither skeleton draws (the detector leaves spread arms out) is either's (seed 405 tango)
     stacked_extent: bool = True  # a dancer hidden straight behind another reaches as far as foreground runs on
     # from the front dancer's box beyond that dancer's own skeleton (:meth:`MultiDancerTracker._stacked_reach`)
     stacked_tolerance: float = 0.1  # x the front dancer's height: a shorter run is no limb
