@@ -169,8 +169,8 @@ class ReportedExtent:
         nothing: the limb may be that dancer's, reaching towards ``d``; unless (``pixel_unexplained_limb``) the pose
         chosen clearly for that dancer draws no limb on the run (:meth:`_limb_unexplained`) and
         (``pixel_unexplained_own``) ``d``'s own pose, if chosen clearly, does draw one there, ``d`` not being
-        hidden behind another (its extent is held): then the run up to that dancer's body core counts. Zero for a dancer not seen now or standing
-        straight behind or in front of another (``pose_stack_overlap``).
+        hidden behind another (its extent is held): then the run up to that dancer's body core counts. Zero for a
+        dancer not seen now or standing straight behind or in front of another (``pose_stack_overlap``).
 
         Written here as a scan over column counts rather than with ``cv2.connectedComponents``: the dancers' own
         foreground touches (a group is one component), and what is needed is how far the run goes along one row
