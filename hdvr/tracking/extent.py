@@ -30,6 +30,13 @@ from hdvr.tracking.state import (OCCLUDED, OUT, TRACKED, DancerTrack, FrameResul
                                  stands_in_front)
 
 
+def _draws_limb(keypoints25: np.ndarray, strip, frame_size) -> bool:
+    """Whether the skeleton of BODY_25 ``keypoints25`` draws a limb inside ``strip`` (x, y, w, h px) of a frame of
+    ``frame_size`` (width, height) px (:func:`hdvr.pose2d.selection.skeleton_mask`)."""
+    mask = skeleton_mask(keypoints25, strip, frame_size)
+    return mask is not None and bool(mask.any())
+
+
 class ReportedExtent:
     """Growth of the reported boxes beyond the tracked ones (mixin of the multi-dancer tracker)."""
 
@@ -107,10 +114,8 @@ class ReportedExtent:
                           (x + w, det[1], reach[2], det[3]), (det[0], y + h, det[2], reach[3])]
                 keypoints = pose.body25()
                 for side, strip in enumerate(strips):
-                    if reach[side] >= 1:  # a limb of the skeleton reaches into the strip beyond the box
-                        mask = skeleton_mask(keypoints, strip, size)
-                        if mask is not None and mask.any():
-                            target[side] = max(target[side], reach[side])
+                    if reach[side] >= 1 and _draws_limb(keypoints, strip, size):  # a limb reaches into the strip
+                        target[side] = max(target[side], reach[side])
             if c.hold_hidden_extent and self._hidden_behind(d):
                 target = np.maximum(target, d.growth)  # nothing can show its limbs are in: they stay out
             rate = np.where(target >= d.growth, a, a * (c.group_shrink if self._overlapping(i, boxes) else 1.0))
@@ -264,8 +269,7 @@ class ReportedExtent:
         j = next((k for k, d in enumerate(self.dancers) if d is o), None)
         if j is None or not self._clear_pose(j, poses, margins):
             return False
-        mask = skeleton_mask(poses[j].body25(), strip, (shape[1], shape[0]))
-        return mask is None or not mask.any()
+        return not _draws_limb(poses[j].body25(), strip, (shape[1], shape[0]))
 
     def _clear_pose(self, j: int, poses, margins) -> bool:
         """Whether Algorithm 2* chose a pose for dancer ``j`` clearly (selection margin >= ``pose_margin``)."""
