@@ -83,7 +83,6 @@ class ReportedExtent:
         c = self.config
         if not c.pose_extent:
             return self.result()
-        self._extent_poses = (poses, margins)  # for the skeleton test of _run_reach
         a = c.pose_adaptation
         size = (frame.shape[1], frame.shape[0])
         fg = self._foreground(frame) if c.pixel_extent else None  # sampled around the tracked boxes
@@ -94,7 +93,7 @@ class ReportedExtent:
                 continue
             target = np.zeros(4)
             if fg is not None:
-                target[0], target[2] = self._pixel_reach(d, fg)
+                target[0], target[2] = self._pixel_reach(d, fg, poses, margins)
                 if c.stacked_extent:
                     left, right = self._stacked_reach(i, pairs)
                     target[0], target[2] = max(target[0], left), max(target[2], right)
@@ -161,7 +160,7 @@ class ReportedExtent:
         overlap = c.pose_stack_overlap if overlap is None else overlap
         return self._bodies_overlap(f.box, d.box) > overlap and stands_in_front(f.box, d.box, c.pixel_front)
 
-    def _pixel_reach(self, d: DancerTrack, fg: np.ndarray) -> tuple[float, float]:
+    def _pixel_reach(self, d: DancerTrack, fg: np.ndarray, poses=(), margins=()) -> tuple[float, float]:
         """How far (px) foreground pixels (``fg``: :func:`hdvr.tracking.appearance.foreground_mask`) run on from
         tracked dancer ``d``'s box to the left and to the right at arm height (rows ``pixel_band`` of the box).
         Column by column outwards from the box: a column counts when it holds at least max(3, ``pixel_min_thickness``
@@ -174,7 +173,8 @@ class ReportedExtent:
         nothing: the limb may be that dancer's, reaching towards ``d``; unless (``pixel_unexplained_limb``) the pose
         chosen clearly for that dancer draws no limb on the run (:meth:`_limb_unexplained`) and
         (``pixel_unexplained_own``) ``d``'s own pose, if chosen clearly, does draw one there, ``d`` not being
-        hidden behind another (its extent is held): then the run up to that dancer's body core counts. Zero for a
+        hidden behind another (its extent is held): then the run up to that dancer's body core counts. ``poses``,
+        ``margins``: the frame's poses chosen by Algorithm 2* and their margins (:meth:`extend_to_poses`). Zero for a
         dancer not seen now or standing straight behind or in front of another (``pose_stack_overlap``).
 
         Written here as a scan over column counts rather than with ``cv2.connectedComponents``: the dancers' own
@@ -186,10 +186,10 @@ class ReportedExtent:
         others = [o for o in self.dancers if o is not d and o.status != OUT]
         if any(self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap for o in others):
             return 0.0, 0.0
-        return self._run_reach(d.box, others, fg, dancer=d)
+        return self._run_reach(d.box, others, fg, dancer=d, chosen=(poses, margins))
 
     def _run_reach(self, box, others, fg: np.ndarray, limb_box=None, own_segment: bool = False,
-                   rows=None, dancer: DancerTrack | None = None) -> tuple[float, float]:
+                   rows=None, dancer: DancerTrack | None = None, chosen=((), ())) -> tuple[float, float]:
         """The column scan of :meth:`_pixel_reach` from the sides of ``box`` (x, y, w, h px), with the body cores
         of dancers ``others`` as stops: how far (px) foreground runs on to the left and to the right of the box.
         Rows, thickness and reach scale with ``limb_box`` (default ``box``): the box of the dancer whose limb is
@@ -197,7 +197,8 @@ class ReportedExtent:
         ``own_segment`` (``fg`` is this dancer's own segment, :meth:`_grabcut_reach`) only the cores of dancers level
         with it stop the run (that side gets nothing): the segmentation has already left out the bodies of those
         behind it and in front of it. ``dancer``: the dancer whose box the run starts from, when the limb sought is
-        its own (for the ``pixel_unexplained_own`` test)."""
+        its own, and ``chosen``: the frame's (poses, margins) from Algorithm 2* (both for the
+        ``pixel_unexplained_limb`` and ``pixel_unexplained_own`` tests, which are skipped without ``dancer``)."""
         c = self.config
         x, _, w, _ = box
         _, y, _, h = box if limb_box is None else limb_box
@@ -248,8 +249,9 @@ class ReportedExtent:
                     if cores[col] < 0 and not (
                             c.pixel_unexplained_limb and last and dancer is not None
                             and not self._hidden_behind(dancer)  # its extent is held: no growth on weak evidence
-                            and self._limb_unexplained(others[owner[col]], strip, fg.shape)
-                            and not (c.pixel_unexplained_own and self._limb_unexplained(dancer, strip, fg.shape))):
+                            and self._limb_unexplained(others[owner[col]], strip, fg.shape, *chosen)
+                            and not (c.pixel_unexplained_own
+                                     and self._limb_unexplained(dancer, strip, fg.shape, *chosen))):
                         last = 0
                     break
                 if counts[col] >= needed:
@@ -262,10 +264,10 @@ class ReportedExtent:
             reach.append(float(last))
         return reach[0], reach[1]
 
-    def _limb_unexplained(self, o: DancerTrack, strip, shape) -> bool:
-        """Whether dancer ``o`` has a pose chosen clearly on this frame (:meth:`_clear_pose`) whose skeleton draws
-        no limb in ``strip`` (x, y, w, h px; ``shape``: the frame's height, width): foreground there is not its limb."""
-        poses, margins = getattr(self, "_extent_poses", ((), ()))
+    def _limb_unexplained(self, o: DancerTrack, strip, shape, poses, margins) -> bool:
+        """Whether dancer ``o`` has a pose chosen clearly on this frame (``poses``, ``margins``:
+        :meth:`_clear_pose`) whose skeleton draws no limb in ``strip`` (x, y, w, h px; ``shape``: the frame's height,
+        width): foreground there is not its limb."""
         j = next((k for k, d in enumerate(self.dancers) if d is o), None)
         if j is None or not self._clear_pose(j, poses, margins):
             return False
@@ -448,7 +450,8 @@ class ReportedExtent:
         full = np.zeros((height, width), bool)
         full[y0:y1, x0:x1] = mine > 0
         others = [o for o in self.dancers if o is not d and o.status != OUT]
-        return self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows, dancer=d)
+        return self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows, dancer=d,
+                               chosen=(poses, margins))
 
     def _pose_extends(self, d: DancerTrack, pose, margin, poses) -> bool:
         """Whether ``pose``, chosen for dancer ``d`` with selection ``margin``, may extend its reported box (the
