@@ -131,6 +131,8 @@ def main() -> int:
                         "and reuse those already there (default: a fresh temporary folder)")
     parser.add_argument("--tracker-config", default="", help="synth, crowd: MultiTrackerConfig fields to change, "
                         "e.g. reid_from_holder=false,reid_margin=0.25 (to measure one rule against the defaults)")
+    parser.add_argument("--no-hindsight", action="store_true", help="synth, crowd: score the online tracker's "
+                        "boxes, without filling the stretches a dancer was unseen (hdvr track --no-hindsight)")
     parser.add_argument("--per-clip-json", type=Path, help="synth, crowd: also write each clip's IDF1, ID switches "
                         "and hidden starts to this JSON file (compare two runs with scripts/compare_track_runs.py)")
     parser.add_argument("--weak-threshold", type=float, default=WEAK_DETECTION_THRESHOLD,
@@ -175,16 +177,19 @@ def main() -> int:
     if "synth" in sections:
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")],
-                               clips_dir=args.clips_dir, config=config, per_clip=per_clip)
+                               clips_dir=args.clips_dir, config=config, per_clip=per_clip,
+                               hindsight=not args.no_hindsight)
     if "crowd" in sections:
         counts = [int(v) for v in args.synth_crowd.split(",")]
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")],
                                clips=[(genre, n) for n in counts for genre in CROWD_GENRES], groups=True,
-                               clips_dir=args.clips_dir, config=config, per_clip=per_clip)
+                               clips_dir=args.clips_dir, config=config, per_clip=per_clip,
+                               hindsight=not args.no_hindsight)
     if args.per_clip_json:
         args.per_clip_json.parent.mkdir(parents=True, exist_ok=True)
-        args.per_clip_json.write_text(json.dumps({"tracker_config": args.tracker_config, "clips": per_clip},
+        args.per_clip_json.write_text(json.dumps({"tracker_config": args.tracker_config,
+                                                  "hindsight": not args.no_hindsight, "clips": per_clip},
                                                  indent=1))
     load_after = os.getloadavg()
     lines.append(f"Load average at the end: {load_after[0]:.1f}.")
@@ -374,13 +379,14 @@ def parse_tracker_config(text: str) -> MultiTrackerConfig:
 
 def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3, 0.15),
                   clips=SYNTH_CLIPS, groups: bool = False, clips_dir: Path | None = None,
-                  config: MultiTrackerConfig | None = None, per_clip: dict | None = None) -> list[str]:
+                  config: MultiTrackerConfig | None = None, per_clip: dict | None = None,
+                  hindsight: bool = True) -> list[str]:
     """Tracking on rendered hdvr.synth clips against their MOT ground truth (boxes from gt.npz) and PCK@0.2 of the
     per-dancer keypoints against their visible ground-truth keypoints. ``clips``: (genre, dancers) per clip
     (``groups``: the crowd section's, rendered in folders of their own); a dancer the camera never sees is left out
     of the scoring. ``clips_dir``: where the clips are rendered (one already there, with its gt.npz, is reused);
     ``config``: the tracker's; ``per_clip``: filled with "seed:index[:groups]:threshold" -> IDF1, switches,
-    hidden starts."""
+    hidden starts; ``hindsight``: as :func:`hdvr.tracking.pipeline.track_video`'s."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
 
     lines = [f"### Synthetic {'groups' if groups else 'dancers'} (hdvr.synth, 640x480, {seconds:g} s at 30 "
@@ -417,7 +423,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
             order, starts = _starts_from_truth(gt)
             for thr, detector in detectors.items():
                 run = track_video(clip / "video.mp4", tmp / "synth-out", detector=detector, starts=starts,
-                                  detect_every=3, overlay=False, write=False, config=config)
+                                  detect_every=3, overlay=False, write=False, config=config, hindsight=hindsight)
                 tracked = run.boxes[:, np.argsort(order)]
                 keypoints = run.keypoints[:, np.argsort(order)]
                 s = evaluate_tracking(gt, tracked)
@@ -430,19 +436,23 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
                              f"{s.hota:.3f} | {s.id_switches} | {' / '.join(f'{p:.2f}' for p in posed)} | "
                              f"{' / '.join(f'{p:.2f}' for p in pcks)} | {pooled:.3f} | {pooled25:.3f} | "
                              f"{loose.idf1:.3f} / {loose.id_switches} | {len(run.hidden_starts)} |")
-                scores[thr].append((s.idf1, s.id_switches, len(run.hidden_starts)))
+                shown = _fewest_frames_shown(truth)
+                scores[thr].append((s.idf1, s.id_switches, len(run.hidden_starts), shown))
                 for key, count in miss_causes(gt, tracked, truth[..., 2].mean(axis=-1)).items():
                     causes[thr][key] = causes[thr].get(key, 0) + count
                 if per_clip is not None:
                     per_clip[f"{seed}:{index}{':groups' if groups else ''}:{thr:g}"] = {
                         "genre": genre, "dancers": n, "idf1": s.idf1, "id_switches": s.id_switches,
-                        "hidden_starts": len(run.hidden_starts)}
+                        "hidden_starts": len(run.hidden_starts), "fewest_frames_shown": shown}
                 print(lines[-1], file=sys.stderr)
     lines.append("")
     for thr, rows in scores.items():
         hidden, clear = [r for r in rows if r[2]], [r for r in rows if not r[2]]
+        shown, never = [r for r in rows if r[3] > 0], [r for r in rows if not r[3]]
         lines += [f"Threshold {thr:g}: {_idf1_summary(rows)}; clips where a dancer starts hidden: "
-                  f"{_idf1_summary(hidden)}; the others: {_idf1_summary(clear)}.", ""]
+                  f"{_idf1_summary(hidden)}; the others: {_idf1_summary(clear)}. Clips where every dancer shows "
+                  f"at least half its keypoints on some frame: {_idf1_summary(shown)}; clips with a dancer the "
+                  f"camera never shows so: {_idf1_summary(never)}.", ""]
     for thr, counts in causes.items():
         lines += _miss_cause_table(thr, counts)
     return lines
@@ -472,6 +482,14 @@ def _seen_truth(clip: Path) -> tuple[np.ndarray, np.ndarray]:
         truth = visible_truth_keypoints(gt_file["keypoints2d"], gt_file["visibility"])
     seen = np.isfinite(gt).all(axis=2).any(axis=0)
     return gt[:, seen], truth[:, seen]
+
+
+def _fewest_frames_shown(truth: np.ndarray, min_visible: float = 0.5) -> int:
+    """The fewest frames on which any one dancer shows at least ``min_visible`` of its keypoints, from (T, N, 25, 3)
+    visible ground-truth keypoints (:func:`hdvr.tracking.evaluation.visible_truth_keypoints`): 0 when a dancer
+    stays hidden behind others (or mostly out of the frame) for the whole clip, so that nothing in the video
+    tells where it is."""
+    return int((truth[..., 2].mean(axis=-1) >= min_visible).sum(axis=0).min())
 
 
 def _starts_from_truth(gt: np.ndarray):

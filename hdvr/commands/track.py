@@ -41,6 +41,9 @@ def register(subparsers) -> None:
     p.add_argument("--no-zoom", action="store_true",
                    help="do not run the detector again on a crop about a dancer that waits hidden behind another "
                         "(faster on such clips; see docs/tracking.md)")
+    p.add_argument("--no-hindsight", action="store_true",
+                   help="write the online tracker's boxes: do not fill the stretches in which a dancer was hidden "
+                        "between where it was seen before and after (see docs/tracking.md)")
     p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")
     p.add_argument("--max-frames", type=int, default=None, help="stop after this many frames")
     p.set_defaults(func=run)
@@ -63,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
     detector = make_detector(args)
     result = track_video(args.video, args.out, detector=detector, boxes=boxes, num_dancers=args.dancers,
                          detect_every=args.detect_every, overlay=not args.no_overlay, max_frames=args.max_frames,
-                         starts=starts, zoom_hidden=not args.no_zoom)
+                         starts=starts, zoom_hidden=not args.no_zoom, hindsight=not args.no_hindsight)
     frames = result.boxes.shape[0]
     seen = tracked_fraction(result)
     pose_found = (result.keypoints[..., 2] > 0).any(axis=2).mean(axis=0)

@@ -156,7 +156,9 @@ def read_mot(path: str | os.PathLike, num_frames: int | None = None) -> np.ndarr
 def write_tracks_json(path: str | os.PathLike, tracks: np.ndarray, status, fps: float, size: tuple[int, int],
                       confidence: np.ndarray | None = None, extra: dict | None = None) -> None:
     """Write tracks as JSON (atomically): per dancer the per-frame box [x, y, w, h] (null where absent), status
-    ("tracked" or "occluded") and confidence."""
+    ("tracked": seen; "occluded": hidden behind others, box predicted or filled with hindsight; "hidden": started
+    hidden behind another and not come out yet; "out": out of the frame; "absent": not started yet) and
+    confidence."""
     tracks = np.asarray(tracks, float)
     dancers = []
     for i in range(tracks.shape[1]):

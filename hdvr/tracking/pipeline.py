@@ -7,9 +7,11 @@ Outputs in ``out_dir``:
 - ``tracks.mot.txt`` (MOT challenge text) and ``tracks.json``: boxes per frame and dancer;
 - ``overlay.mp4``: H.264 video with boxes, ids and skeletons (unless disabled).
 
-Frames are decoded, tracked, drawn and encoded one at a time; only small per-frame arrays (boxes and keypoints)
-are kept. If decoding or anything else stops the run early, the outputs for the frames done so far are written
-before the error is raised.
+Frames are decoded and tracked one at a time; only small per-frame arrays (boxes and keypoints) are kept. Once
+all frames are tracked, the stretches in which a dancer was not seen are filled with hindsight
+(:mod:`hdvr.tracking.gaps`), and the overlay is drawn in a second pass over the video with the final boxes. If
+decoding or anything else stops the run early, the outputs for the frames done so far are written before the
+error is raised.
 """
 
 from __future__ import annotations
@@ -32,6 +34,7 @@ from hdvr.pose2d.selection import PoseSelector
 from hdvr.progress import progress
 from hdvr.tracking.appearance import box_iou, box_overlap
 from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
+from hdvr.tracking.gaps import HIDDEN, MIN_SEEN_AFTER, fill_unseen
 from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.state import body_core
 from hdvr.video import VideoReader, VideoWriter
@@ -42,7 +45,9 @@ class TrackRun:
     """What a run produced (arrays cover the frames processed)."""
 
     boxes: np.ndarray  # (T, N, 4) x, y, w, h px
-    status: list  # T tuples of N "tracked"/"occluded"
+    status: list  # T tuples of N: "tracked" (seen), "occluded" (hidden behind others: box predicted, or filled with
+    # hindsight), "hidden" (started hidden behind another, not come out yet), "out" (of the frame), "absent" (not
+    # started yet)
     confidence: np.ndarray  # (T, N)
     keypoints: np.ndarray  # (T, N, 25, 3) BODY_25 x_px, y_px, confidence
     detected: np.ndarray  # (T,) bool: the detector ran on this frame
@@ -54,6 +59,7 @@ class TrackRun:
     stage_seconds: dict = field(default_factory=dict)  # decode, detect, track, select, overlay
     hidden_starts: list = field(default_factory=list)  # (frame, dancer, dancer in front) per dancer whose start box
     # lies mostly behind another dancer's (MultiDancerTracker.hiding_dancer): its colours are not its own
+    filled: np.ndarray | None = None  # (T, N) bool: box filled with hindsight (:func:`hdvr.tracking.gaps.fill_unseen`)
 
 
 @dataclass(frozen=True)
@@ -117,6 +123,13 @@ def _pad(result: FrameResult, n: int) -> FrameResult:
     conf = np.zeros(n)
     conf[:k] = result.confidence
     return FrameResult(result.frame_index, boxes, tuple(result.status) + ("absent",) * (n - k), conf)
+
+
+def _reported_status(result: FrameResult, tracker: MultiDancerTracker) -> tuple[str, ...]:
+    """The status written for each dancer: the tracker's, except "hidden" for a dancer that started hidden behind
+    another and waits to come out (its box is held on that dancer; the tracker counts it as followed)."""
+    waiting = {d.dancer_id for d in tracker.waiting()}
+    return tuple(HIDDEN if i in waiting else s for i, s in enumerate(result.status))
 
 
 def fill_between_detections(keypoints: np.ndarray, detected: np.ndarray, max_gap: int) -> np.ndarray:
@@ -183,7 +196,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 boxes=None, num_dancers: int | None = None, detect_every: int = 1, overlay: bool = True,
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
-                zoom_hidden: bool = True) -> TrackRun:
+                zoom_hidden: bool = True, hindsight: bool = True) -> TrackRun:
     """Track the dancers of ``video`` and estimate their 2D poses; write the outputs to ``out_dir``.
 
     ``boxes``: initial (x, y, w, h) px boxes in the first frame, or None to find ``num_dancers`` people with the
@@ -192,7 +205,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     the detector on every k-th frame only (keypoints in between are interpolated). ``detector`` None: boxes only,
     no keypoints. ``zoom_hidden``: on detector frames, while a dancer that started hidden behind another waits to
     come out, the detector also runs on a crop about its box (:func:`zoom_detections`; not for detectors with
-    ``supports_crops`` False, such as precomputed OpenPose output).
+    ``supports_crops`` False, such as precomputed OpenPose output). ``hindsight``: once all frames are tracked,
+    fill the boxes of each stretch in which a dancer was not seen between where it was seen before and after
+    (:func:`hdvr.tracking.gaps.fill_unseen`); off, the boxes are those of the online tracker.
     """
     started = time.perf_counter()
     cpu_started = time.process_time()
@@ -228,12 +243,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     out.mkdir(parents=True, exist_ok=True)
     n = len(boxes)
     selector = PoseSelector(n)
-    writer = VideoWriter(out / "overlay.mp4", info.fps, info.size) if (overlay and write) else None
     all_boxes, all_status, all_conf, all_kp, detected = [], [], [], [], []
     stage = dict.fromkeys(("decode", "detect", "track", "select", "overlay"), 0.0)
-    last_kp = np.full((n, 25, 3), np.nan, np.float32)
-    last_kp[..., 2] = 0
-    last_kp_boxes = np.array(boxes, float)
     tracker = None
     hidden_starts = []
     failure: BaseException | None = None
@@ -299,21 +310,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 if tracker is not None:  # reported boxes reach as far as the poses clearly chosen for them
                     k = len(tracker.dancers)
                     result = _pad(tracker.extend_to_poses(frame, chosen[:k], selector.margins[:k]), n)
-                last_kp, last_kp_boxes = kp, result.boxes.copy()
                 stage["select"] += time.perf_counter() - tic
-            if writer is not None:
-                tic = time.perf_counter()
-                if run_detector:
-                    shown = kp
-                else:  # the last detected skeleton, moved with its box
-                    shift = (result.boxes[:, :2] + result.boxes[:, 2:] / 2) - \
-                        (last_kp_boxes[:, :2] + last_kp_boxes[:, 2:] / 2)
-                    shown = last_kp.copy()
-                    shown[..., :2] += np.nan_to_num(shift)[:, None, :]
-                writer.write(draw_overlay(frame, result.boxes, result.status, shown))
-                stage["overlay"] += time.perf_counter() - tic
             all_boxes.append(result.boxes)
-            all_status.append(result.status)
+            all_status.append(_reported_status(result, tracker))
             all_conf.append(result.confidence)
             all_kp.append(kp)
             detected.append(run_detector)
@@ -327,21 +326,23 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     finally:
         bar.close()
     if not all_boxes:
-        if writer is not None:
-            writer.abort()
         if failure is not None:
             raise failure
         raise HDVRError(f"video {video} has no decodable frame")
     run = TrackRun(np.array(all_boxes, float), all_status, np.array(all_conf, float), np.array(all_kp, np.float32),
                    np.array(detected, bool), info.fps, info.size, hidden_starts=hidden_starts)
     run.keypoints = fill_between_detections(run.keypoints, run.detected, detect_every)
-    if writer is not None:
-        writer.close()  # keeps the frames finished so far
-        run.outputs.append(writer.path)
+    run.filled = np.zeros(run.boxes.shape[:2], bool)
+    if hindsight:
+        run.boxes, run.filled = fill_unseen(run.boxes, run.status, MIN_SEEN_AFTER)
     if write:
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
             "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts]})
+    if overlay and write and not isinstance(failure, KeyboardInterrupt):  # after the files that matter most
+        tic = time.perf_counter()
+        run.outputs.append(write_overlay(video, out / "overlay.mp4", run))
+        stage["overlay"] += time.perf_counter() - tic
     run.seconds = time.perf_counter() - started
     run.cpu_seconds = time.process_time() - cpu_started
     run.stage_seconds = stage
@@ -352,6 +353,20 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     return run
 
 
+def write_overlay(video: str | os.PathLike, path: Path, run: TrackRun) -> Path:
+    """Draw ``run``'s boxes, ids and keypoints (as written to the keypoint files) on the frames of ``video`` it
+    covers and encode them to H.264 ``path``: a second pass over the video, so that the overlay shows the boxes
+    filled with hindsight. Frames that cannot be decoded end the overlay early; the frames drawn are kept."""
+    frames = run.boxes.shape[0]
+    bar = progress(total=frames, desc="overlay", unit="frame")
+    with VideoReader(video) as reader, VideoWriter(path, run.fps, run.size) as writer:
+        for t, frame in enumerate(itertools.islice(reader, frames)):
+            writer.write(draw_overlay(frame, run.boxes[t], run.status[t], run.keypoints[t]))
+            bar.update(1)
+    bar.close()
+    return path
+
+
 def write_outputs(out: Path, run: TrackRun, extra: dict | None = None) -> list[Path]:
     """Write the per-dancer keypoint NPZ files, MOT text and JSON tracks (all atomically)."""
     paths = []
@@ -360,6 +375,10 @@ def write_outputs(out: Path, run: TrackRun, extra: dict | None = None) -> list[P
         save_keypoints2d(path, Keypoints2D(run.keypoints[:, i], BODY25_NAMES, run.fps, run.size))
         paths.append(path)
     write_mot(out / "tracks.mot.txt", run.boxes, run.confidence)
+    extra = dict(extra or {})
+    if run.filled is not None:
+        extra["filled_with_hindsight"] = [[int(t) for t in np.flatnonzero(run.filled[:, i])]
+                                          for i in range(run.boxes.shape[1])]
     write_tracks_json(out / "tracks.json", run.boxes, run.status, run.fps, run.size, run.confidence, extra)
     paths += [out / "tracks.mot.txt", out / "tracks.json"]
     return paths
