@@ -83,6 +83,18 @@ def test_each_dancer_is_filled_on_its_own():
     assert mask[:, 1].sum() == 4 and not mask[:, 0].any()
 
 
-def test_wrong_shapes_are_refused():
+def test_a_dancer_seen_again_to_the_end_of_the_video_counts_as_seen_again():
+    truth = _walk(20)
+    boxes = truth.copy()
+    boxes[10:17, 0] = truth[9, 0]
+    status = [("occluded",) if 10 <= t < 17 else ("tracked",) for t in range(20)]  # seen on the last 3 frames
+    filled, mask = fill_unseen(boxes, status, min_seen_after=5)
+    np.testing.assert_allclose(filled, truth, atol=1e-9)
+    assert mask[:, 0].sum() == 7
+
+
+def test_wrong_shapes_and_settings_are_refused():
     with pytest.raises(ValueError, match=r"\(T, N, 4\)"):
         fill_unseen(np.zeros((5, 4)), [("tracked",)] * 5)
+    with pytest.raises(ValueError, match="min_seen_after"):
+        fill_unseen(np.zeros((5, 1, 4)), [("tracked",)] * 5, min_seen_after=0)

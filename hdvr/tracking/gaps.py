@@ -10,8 +10,8 @@ unseen, where its predicted box either stands still or runs on with a stale velo
 hip-hop trio: IDF1 0.714 -> 0.825).
 
 A re-identification is trusted as the end of a stretch only when the dancer then stays seen for
-``min_seen_after`` frames in a row: a dancer taken for one frame on the wrong person and lost again would drag the
-whole filled stretch there (hdvr synth seed 505 hip-hop trio, frame 107). A stretch with no seen frame after it
+``min_seen_after`` frames in a row (or to the end of the video): a dancer taken for one frame on the wrong person
+and lost again would drag the whole filled stretch there (hdvr synth seed 505 hip-hop trio, frame 107). A stretch with no seen frame after it
 (hidden to the end, or out of the frame) keeps its predicted boxes. A dancer hidden from its first frame is
 anchored on its start box (given, or found by the detector).
 
@@ -56,6 +56,8 @@ def fill_unseen(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTER)
     boxes = np.asarray(boxes, float)
     if boxes.ndim != 3 or boxes.shape[2] != 4:
         raise ValueError(f"boxes must be (T, N, 4), got {boxes.shape}")
+    if min_seen_after < 1:
+        raise ValueError(f"min_seen_after must be >= 1, got {min_seen_after}")
     status = np.asarray([tuple(s) for s in status], dtype=object).reshape(boxes.shape[:2])
     out = boxes.copy()
     filled = np.zeros(boxes.shape[:2], bool)
@@ -68,7 +70,7 @@ def fill_unseen(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTER)
         seen = status[:, i] == TRACKED
         for a, b in unseen_stretches(status[:, i]):
             after = b + 1
-            if after + min_seen_after > num_frames or not seen[after:after + min_seen_after].all():
+            if after >= num_frames or not seen[after:after + min_seen_after].all():  # not lost again (or to the end)
                 continue
             if a == first:  # hidden from the start: anchored on the start box
                 before = a

@@ -325,6 +325,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         failure = exc
     finally:
         bar.close()
+    done = min(len(all_boxes), len(all_status), len(all_conf), len(all_kp), len(detected))  # an interrupt may
+    del all_boxes[done:], all_status[done:], all_conf[done:], all_kp[done:], detected[done:]  # land mid-frame
     if not all_boxes:
         if failure is not None:
             raise failure
@@ -339,10 +341,16 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
             "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts]})
-    if overlay and write and not isinstance(failure, KeyboardInterrupt):  # after the files that matter most
-        tic = time.perf_counter()
-        run.outputs.append(write_overlay(video, out / "overlay.mp4", run))
-        stage["overlay"] += time.perf_counter() - tic
+    if overlay and write:  # after the files that matter most
+        if isinstance(failure, KeyboardInterrupt):  # stopped by the user: no second pass over the video, and no
+            (out / "overlay.mp4").unlink(missing_ok=True)  # overlay of an earlier run beside these tracks
+        else:
+            tic = time.perf_counter()
+            try:
+                run.outputs.append(write_overlay(video, out / "overlay.mp4", run))
+            except HDVRError as exc:
+                raise (failure or HDVRError(f"{exc}; the other outputs were written to {out}")) from exc
+            stage["overlay"] += time.perf_counter() - tic
     run.seconds = time.perf_counter() - started
     run.cpu_seconds = time.process_time() - cpu_started
     run.stage_seconds = stage
@@ -359,11 +367,13 @@ def write_overlay(video: str | os.PathLike, path: Path, run: TrackRun) -> Path:
     filled with hindsight. Frames that cannot be decoded end the overlay early; the frames drawn are kept."""
     frames = run.boxes.shape[0]
     bar = progress(total=frames, desc="overlay", unit="frame")
-    with VideoReader(video) as reader, VideoWriter(path, run.fps, run.size) as writer:
-        for t, frame in enumerate(itertools.islice(reader, frames)):
-            writer.write(draw_overlay(frame, run.boxes[t], run.status[t], run.keypoints[t]))
-            bar.update(1)
-    bar.close()
+    try:
+        with VideoReader(video) as reader, VideoWriter(path, run.fps, run.size) as writer:
+            for t, frame in enumerate(itertools.islice(reader, frames)):
+                writer.write(draw_overlay(frame, run.boxes[t], run.status[t], run.keypoints[t]))
+                bar.update(1)
+    finally:
+        bar.close()
     return path
 
 
@@ -385,5 +395,6 @@ def write_outputs(out: Path, run: TrackRun, extra: dict | None = None) -> list[P
 
 
 def tracked_fraction(run: TrackRun) -> np.ndarray:
-    """(N,) fraction of frames in which each dancer was seen (not predicted through an occlusion)."""
+    """(N,) fraction of frames in which each dancer was seen (status "tracked": not predicted or filled through an
+    occlusion, nor waiting hidden behind another since its start)."""
     return np.array([[s[i] == TRACKED for s in run.status] for i in range(run.boxes.shape[1])]).mean(axis=1)

@@ -81,7 +81,7 @@ class FrameResult:
 
     frame_index: int
     boxes: np.ndarray  # (N, 4) float: x, y, w, h px
-    status: tuple[str, ...]  # per dancer: "tracked" or "occluded" (box predicted, not seen)
+    status: tuple[str, ...]  # per dancer: "tracked", "occluded" (box predicted, not seen) or "out" (of the frame)
     confidence: np.ndarray  # (N,) float in [0, 1]
 
 
