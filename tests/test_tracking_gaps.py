@@ -1,9 +1,9 @@
-"""Filling the stretches in which a dancer was unseen with hindsight (hdvr.tracking.gaps)."""
+"""Filling the stretches in which a dancer was occluded with hindsight (hdvr.tracking.gaps)."""
 
 import numpy as np
 import pytest
 
-from hdvr.tracking.gaps import fill_unseen, interpolate_boxes, unseen_stretches
+from hdvr.tracking.gaps import MIN_SEEN_AFTER, fill_occluded, interpolate_boxes, occluded_stretches
 
 
 def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
@@ -12,10 +12,19 @@ def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
     return np.stack([100 + speed * t, 50 - t / 2, 40 + 0 * t, 120 + t], axis=1)[:, None, :]
 
 
-def test_unseen_stretches_are_the_runs_of_occluded_or_hidden_frames():
+def _status(frames: int, occluded=(), other="tracked", **at) -> list[tuple[str]]:
+    """One dancer's status per frame: ``occluded`` frames, ``at`` {status: frames} for others, else ``other``."""
+    out = [("occluded",) if t in occluded else (other,) for t in range(frames)]
+    for name, frames_of in at.items():
+        for t in frames_of:
+            out[t] = (name,)
+    return out
+
+
+def test_occluded_stretches_are_the_runs_of_occluded_frames():
     status = ["tracked", "occluded", "occluded", "tracked", "hidden", "out", "occluded"]
-    assert unseen_stretches(status) == [(1, 2), (4, 4), (6, 6)]
-    assert unseen_stretches(["tracked"] * 3) == []
+    assert occluded_stretches(status) == [(1, 2), (6, 6)]
+    assert occluded_stretches(["tracked"] * 3) == []
 
 
 def test_interpolated_boxes_move_their_centre_and_size_linearly():
@@ -29,23 +38,10 @@ def test_an_occluded_stretch_is_filled_between_where_the_dancer_was_seen_before_
     truth = _walk(30)
     boxes = truth.copy()
     boxes[10:20, 0] = truth[9, 0]  # predicted box stood still while the dancer walked on behind others
-    status = [("occluded",) if 10 <= t < 20 else ("tracked",) for t in range(30)]
-    filled, mask = fill_unseen(boxes, status, min_seen_after=5)
+    filled, mask = fill_occluded(boxes, _status(30, range(10, 20)), min_seen_after=5)
     np.testing.assert_allclose(filled, truth, atol=1e-9)
     assert mask[:, 0].tolist() == [10 <= t < 20 for t in range(30)]
     np.testing.assert_array_equal(boxes[10:20, 0], np.repeat(truth[9], 10, axis=0))  # input unchanged
-
-
-def test_a_dancer_hidden_from_its_start_is_filled_from_its_start_box():
-    truth = _walk(25)
-    boxes = np.full_like(truth, np.nan)  # starts at frame 3, waits hidden to frame 11
-    boxes[3:] = truth[3:]
-    boxes[4:12, 0] = truth[3, 0]
-    status = [("absent",)] * 3 + [("hidden",)] * 9 + [("tracked",)] * 13
-    filled, mask = fill_unseen(boxes, status, min_seen_after=5)
-    np.testing.assert_allclose(filled[3:], truth[3:], atol=1e-9)
-    assert np.isnan(filled[:3]).all()
-    assert mask[:, 0].tolist() == [4 <= t < 12 for t in range(25)]
 
 
 def test_a_stretch_ended_by_a_short_sighting_is_not_filled():
@@ -55,20 +51,38 @@ def test_a_stretch_ended_by_a_short_sighting_is_not_filled():
     boxes = truth.copy()
     boxes[10:20, 0] = truth[9, 0]
     boxes[20:22, 0] = truth[20, 0] - (0, 80, 0, 0)  # taken on someone else for two frames, lost again
-    status = [("occluded",) if 10 <= t < 20 or t >= 22 else ("tracked",) for t in range(30)]
-    filled, mask = fill_unseen(boxes, status, min_seen_after=5)
+    status = _status(30, list(range(10, 20)) + list(range(22, 30)))
+    filled, mask = fill_occluded(boxes, status, min_seen_after=3)
     np.testing.assert_array_equal(filled, boxes)
+    assert not mask.any()
+    assert MIN_SEEN_AFTER >= 2  # the default trusts no single-frame sighting
+
+
+def test_a_dancer_seen_again_to_the_end_of_the_video_counts_as_seen_again():
+    truth = _walk(20)
+    boxes = truth.copy()
+    boxes[10:18, 0] = truth[9, 0]
+    filled, mask = fill_occluded(boxes, _status(20, range(10, 18)), min_seen_after=5)  # seen on the last 2 frames
+    np.testing.assert_allclose(filled, truth, atol=1e-9)
+    assert mask[:, 0].sum() == 8
+
+
+def test_stretches_with_nothing_seen_before_or_after_keep_their_boxes():
+    boxes = _walk(24)
+    boxes[1:3] = np.nan  # out of the frame
+    status = _status(24, occluded=list(range(3, 8)) + list(range(20, 24)), out=[1, 2])
+    filled, mask = fill_occluded(boxes, status, min_seen_after=3)
+    np.testing.assert_array_equal(filled, boxes)  # frames 3-7 follow an exit, 20-23 end the clip occluded
     assert not mask.any()
 
 
-def test_stretches_with_nothing_seen_before_or_after_keep_their_predicted_boxes():
+def test_a_dancer_waiting_hidden_since_its_start_keeps_its_boxes():
+    """Status "hidden" (started behind another, never seen): its box stays with the dancer in front, and an
+    occluded stretch that follows it has no box seen before it."""
     boxes = _walk(20)
-    boxes[:3] = np.nan  # out of the frame at first
-    status = [("out",)] * 3 + [("occluded",)] * 5 + [("tracked",)] * 8 + [("occluded",)] * 4
-    status[0] = ("tracked",)
-    boxes[0] = _walk(20)[0]
-    filled, mask = fill_unseen(boxes, status, min_seen_after=3)
-    np.testing.assert_array_equal(filled, boxes)  # frames 3-7 follow an exit, 16-19 end the clip unseen
+    status = _status(20, occluded=range(6, 10), hidden=range(0, 6))
+    filled, mask = fill_occluded(boxes + 0.0, status)
+    np.testing.assert_array_equal(filled, boxes)
     assert not mask.any()
 
 
@@ -77,24 +91,14 @@ def test_each_dancer_is_filled_on_its_own():
     boxes = np.concatenate([a, b], axis=1)
     boxes[5:9, 1] = b[4, 0]
     status = [("tracked", "occluded" if 5 <= t < 9 else "tracked") for t in range(20)]
-    filled, mask = fill_unseen(boxes, status)
+    filled, mask = fill_occluded(boxes, status)
     np.testing.assert_allclose(filled[:, 1], b[:, 0], atol=1e-9)
     np.testing.assert_array_equal(filled[:, 0], a[:, 0])
     assert mask[:, 1].sum() == 4 and not mask[:, 0].any()
 
 
-def test_a_dancer_seen_again_to_the_end_of_the_video_counts_as_seen_again():
-    truth = _walk(20)
-    boxes = truth.copy()
-    boxes[10:17, 0] = truth[9, 0]
-    status = [("occluded",) if 10 <= t < 17 else ("tracked",) for t in range(20)]  # seen on the last 3 frames
-    filled, mask = fill_unseen(boxes, status, min_seen_after=5)
-    np.testing.assert_allclose(filled, truth, atol=1e-9)
-    assert mask[:, 0].sum() == 7
-
-
 def test_wrong_shapes_and_settings_are_refused():
     with pytest.raises(ValueError, match=r"\(T, N, 4\)"):
-        fill_unseen(np.zeros((5, 4)), [("tracked",)] * 5)
+        fill_occluded(np.zeros((5, 4)), [("tracked",)] * 5)
     with pytest.raises(ValueError, match="min_seen_after"):
-        fill_unseen(np.zeros((5, 1, 4)), [("tracked",)] * 5, min_seen_after=0)
+        fill_occluded(np.zeros((5, 1, 4)), [("tracked",)] * 5, min_seen_after=0)
