@@ -3,8 +3,10 @@
 Renders held-out hdvr.synth clips (deterministic by seed), tracks them as ``scripts/bench_track.py --sections synth``
 does (ground-truth start boxes, YOLO11n-pose at 480 px on every 3rd frame) and draws chosen frames: each dancer's
 amodal ground-truth box thin, its tracked box thick in the same colour, with the IoU between them; the detector's
-person boxes of that frame in white. Writes one JPEG per (seed, clip, frame) into docs/img, and for the cases of
-``BEFORE_AFTER`` one picture with the frame tracked without a rule (left) and with it (right).
+person boxes of that frame in white. Writes one JPEG per (seed, clip, frame) into docs/img, for the cases of
+``BEFORE_AFTER`` one picture with the frame tracked without a rule (left) and with it (right), and for those of
+``HINDSIGHT`` one with the online tracker's boxes (left) and the boxes written, occluded stretches filled with
+hindsight (right).
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -31,6 +33,10 @@ CASES = (
 #: (seed, clip index, genre, dancers, frame, MultiTrackerConfig field switched off on the left, picture name)
 BEFORE_AFTER = (
     (113, 5, "ballet", 4, 60, "hidden_min_aspect", "tracking_amodal_s113_ballet_060.jpg"),
+)
+#: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
+HINDSIGHT = (
+    (1412, 5, "ballet", 4, 89, "tracking_hindsight_s1412_ballet_089.jpg"),
 )
 COLOURS = [(0, 0, 255), (0, 190, 0), (255, 60, 0), (0, 200, 220)]  # BGR
 
@@ -74,9 +80,10 @@ def draw_case(frame: np.ndarray, gt: np.ndarray, tracked: np.ndarray, detections
     return picture
 
 
-def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, configs):
-    """Render clip ``index`` of ``seed`` and track it once per config; returns (gt (T, N, 4), tracked boxes per
-    config (T, N, 4), path of the video), dancers in the clip's order."""
+def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, configs, hindsight=None):
+    """Render clip ``index`` of ``seed`` and track it once per config (and per ``hindsight`` flag, zipped with
+    ``configs``; default on); returns (gt (T, N, 4), tracked boxes per config (T, N, 4), path of the video),
+    dancers in the clip's order."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
     from hdvr.tracking.pipeline import DancerStart, track_video
 
@@ -89,9 +96,9 @@ def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, 
     order = sorted(range(n), key=lambda i: first[i])
     starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
     tracked = []
-    for config in configs:
+    for config, filled in zip(configs, hindsight or [True] * len(configs)):
         run = track_video(clip / "video.mp4", tmp / "out", detector=detector, starts=starts, detect_every=3,
-                          overlay=False, write=False, config=config)
+                          overlay=False, write=False, config=config, hindsight=filled)
         tracked.append(run.boxes[:, np.argsort(order)])
     return gt, tracked, clip / "video.mp4"
 
@@ -135,8 +142,8 @@ def _side_by_side(left: np.ndarray, right: np.ndarray, titles) -> np.ndarray:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
-    parser.add_argument("--only", choices=("limits", "before-after"), default=None,
-                        help="write only the limit pictures or only the before/after ones")
+    parser.add_argument("--only", choices=("limits", "before-after", "hindsight"), default=None,
+                        help="write only the limit pictures, the before/after ones or the hindsight ones")
     args = parser.parse_args(argv)
 
     from dataclasses import replace
@@ -147,13 +154,14 @@ def main(argv=None) -> int:
     detector = make_detector("yolo11n", 480, threads=2)  # as hdvr track has it, weak finds included
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        for seed, index, genre, n, frame_index, what in CASES if args.only != "before-after" else ():
+        for seed, index, genre, n, frame_index, what in CASES if args.only in (None, "limits") else ():
             gt, (tracked,), video = _track_case(tmp, detector, seed, index, genre, n, [None])
             frame, detections = _frame_and_detections(video, detector, frame_index)
             path = args.out / f"tracking_limit_s{seed}_{genre}_{frame_index:03d}.jpg"
             _write_jpeg(path, draw_case(frame, gt[frame_index], tracked[frame_index], detections))
             print(f"wrote {path}: {what}", file=sys.stderr)
-        for seed, index, genre, n, frame_index, field, name in BEFORE_AFTER if args.only != "limits" else ():
+        for seed, index, genre, n, frame_index, field, name in BEFORE_AFTER if args.only in (None, "before-after") \
+                else ():
             default = MultiTrackerConfig()
             off = replace(default, **{field: type(getattr(default, field))()})  # 0, 0.0 or False
             gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [off, default])
@@ -164,6 +172,16 @@ def main(argv=None) -> int:
             path = args.out / name
             _write_jpeg(path, _side_by_side(*pictures, (f"{field} off", f"{field} = {getattr(default, field)}")))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, {field} off and on", file=sys.stderr)
+        for seed, index, genre, n, frame_index, name in HINDSIGHT if args.only in (None, "hindsight") else ():
+            gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [None, None], [False, True])
+            frame, detections = _frame_and_detections(video, detector, frame_index)
+            both = np.concatenate([tracked[0][frame_index], tracked[1][frame_index]])
+            pictures = [draw_case(frame, gt[frame_index], t[frame_index], detections, crop_boxes=both)
+                        for t in tracked]
+            path = args.out / name
+            _write_jpeg(path, _side_by_side(*pictures, ("online (--no-hindsight)", "occluded stretch filled")))
+            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with hindsight",
+                  file=sys.stderr)
     return 0
 
 
