@@ -8,10 +8,10 @@ Outputs in ``out_dir``:
 - ``overlay.mp4``: H.264 video with boxes, ids and skeletons (unless disabled).
 
 Frames are decoded and tracked one at a time; only small per-frame arrays (boxes and keypoints) are kept. Once
-all frames are tracked, the stretches in which a dancer was hidden behind others are filled with hindsight
-(:mod:`hdvr.tracking.gaps`), and the overlay is drawn in a second pass over the video with the final boxes. If
-decoding or anything else stops the run early, the outputs for the frames done so far are written before the
-error is raised.
+all frames are tracked, the stretches in which a dancer was hidden behind others are filled with hindsight and the
+boxes smoothed over time (:mod:`hdvr.tracking.hindsight`), and the overlay is drawn in a second pass over the
+video with the final boxes. If decoding or anything else stops the run early, the outputs for the frames done so
+far are written before the error is raised.
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from hdvr.pose2d.selection import PoseSelector
 from hdvr.progress import progress
 from hdvr.tracking.appearance import box_iou, box_overlap
 from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
-from hdvr.tracking.gaps import HIDDEN, MIN_SEEN_AFTER, fill_occluded
+from hdvr.tracking.hindsight import HIDDEN, MIN_SEEN_AFTER, SMOOTH_WINDOW, fill_occluded, smooth_boxes
 from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.state import body_core
 from hdvr.video import VideoReader, VideoWriter
@@ -59,7 +59,8 @@ class TrackRun:
     stage_seconds: dict = field(default_factory=dict)  # decode, detect, track, select, overlay
     hidden_starts: list = field(default_factory=list)  # (frame, dancer, dancer in front) per dancer whose start box
     # lies mostly behind another dancer's (MultiDancerTracker.hiding_dancer): its colours are not its own
-    filled: np.ndarray | None = None  # (T, N) bool: box filled with hindsight (:func:`hdvr.tracking.gaps.fill_occluded`)
+    filled: np.ndarray | None = None  # (T, N) bool: box filled with hindsight
+    # (:func:`hdvr.tracking.hindsight.fill_occluded`)
 
 
 @dataclass(frozen=True)
@@ -207,7 +208,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     come out, the detector also runs on a crop about its box (:func:`zoom_detections`; not for detectors with
     ``supports_crops`` False, such as precomputed OpenPose output). ``hindsight``: once all frames are tracked,
     fill the boxes of each stretch in which a dancer was occluded between where it was seen before and after
-    (:func:`hdvr.tracking.gaps.fill_occluded`); off, the boxes are those of the online tracker.
+    (:func:`hdvr.tracking.hindsight.fill_occluded`) and smooth the boxes over time
+    (:func:`hdvr.tracking.hindsight.smooth_boxes`); off, the boxes are those of the online tracker.
     """
     started = time.perf_counter()
     cpu_started = time.process_time()
@@ -337,6 +339,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     run.filled = np.zeros(run.boxes.shape[:2], bool)
     if hindsight:
         run.boxes, run.filled = fill_occluded(run.boxes, run.status, MIN_SEEN_AFTER)
+        run.boxes = smooth_boxes(run.boxes, run.status, SMOOTH_WINDOW)
     if write:
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),

@@ -1,9 +1,10 @@
-"""Filling the stretches in which a dancer was occluded with hindsight (hdvr.tracking.gaps)."""
+"""Hindsight once a video is tracked: occluded stretches filled, boxes smoothed (hdvr.tracking.hindsight)."""
 
 import numpy as np
 import pytest
 
-from hdvr.tracking.gaps import MIN_SEEN_AFTER, fill_occluded, interpolate_boxes, occluded_stretches
+from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, fill_occluded, interpolate_boxes, occluded_stretches,
+                                     smooth_boxes)
 
 
 def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
@@ -102,3 +103,37 @@ def test_wrong_shapes_and_settings_are_refused():
         fill_occluded(np.zeros((5, 4)), [("tracked",)] * 5)
     with pytest.raises(ValueError, match="min_seen_after"):
         fill_occluded(np.zeros((5, 1, 4)), [("tracked",)] * 5, min_seen_after=0)
+
+
+def test_smoothing_averages_jitter_away_and_keeps_a_steady_walk():
+    rng = np.random.default_rng(0)
+    truth = _walk(60)
+    noisy = truth + np.concatenate([rng.normal(0, 4, (60, 1, 2)), np.zeros((60, 1, 2))], axis=2)  # jittery corner
+    status = _status(60)
+    smoothed = smooth_boxes(noisy, status, window=9)
+    inner = slice(4, 56)  # away from the ends, a straight walk is kept exactly by a centred average
+    np.testing.assert_allclose(smooth_boxes(truth, status, window=9)[inner], truth[inner], atol=1e-9)
+    assert np.abs(smoothed[inner] - truth[inner]).mean() < 0.5 * np.abs(noisy[inner] - truth[inner]).mean()
+    np.testing.assert_array_equal(noisy, truth + (noisy - truth))  # input unchanged
+
+
+def test_smoothing_stays_within_each_run_of_boxes():
+    """Frames out of the frame, absent or hidden since the start are left as they are and split the runs; a run
+    shorter than the window is kept."""
+    boxes = _walk(40)
+    boxes[10:13] = np.nan
+    boxes[30:40, 0, 0] += 50.0 * (np.arange(10) % 2)  # jitter in a run of 10 frames
+    status = _status(40, hidden=range(0, 5), out=range(10, 13))
+    status[20] = status[25] = ("hidden",)
+    smoothed = smooth_boxes(boxes, status, window=9)
+    np.testing.assert_array_equal(smoothed[:26], boxes[:26])  # runs 5-9, 13-19 and 21-24 are shorter than 9 frames
+    assert np.isnan(smoothed[10:13]).all()
+    assert np.ptp(smoothed[30:36, 0, 0] - boxes[30:36, 0, 0]) > 0  # run 26-39 (14 frames) is smoothed
+    assert np.abs(np.diff(smoothed[30:40, 0, 0])).max() < np.abs(np.diff(boxes[30:40, 0, 0])).max()
+
+
+def test_smoothing_refuses_wrong_shapes_and_windows():
+    with pytest.raises(ValueError, match=r"\(T, N, 4\)"):
+        smooth_boxes(np.zeros((5, 4)), [("tracked",)] * 5)
+    with pytest.raises(ValueError, match="window"):
+        smooth_boxes(np.zeros((5, 1, 4)), [("tracked",)] * 5, window=0)

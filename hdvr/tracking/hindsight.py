@@ -1,13 +1,14 @@
-"""Hindsight for the stretches in which a dancer was hidden behind others: boxes filled between where it was seen.
+"""Hindsight once a whole video is tracked: occluded stretches filled, and boxes smoothed over time.
 
-Algorithm 1* runs online: while a dancer is hidden behind others (status ``occluded``) its box is a prediction from
-its last clear box and velocity. Once the whole video is tracked, where the dancer was seen again is known, so
-each such stretch is filled by linear interpolation (box centre and size) between its box on the last frame it was
-seen before and on the first frame it was seen again, as offline multi-object trackers do for the missing frames
-of a track (e.g. ByteTrack's and StrongSORT's linear interpolation). A dancer hidden behind a partner moves on
-while unseen, where its predicted box either stands still or runs on with a stale velocity (hdvr synth seed 1210
-swing couple: IDF1 0.762 -> 0.887).
+Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so two offline steps can use the
+frames after each one, as offline multi-object trackers do (ByteTrack's and StrongSORT's linear interpolation of the
+missing frames of a track, StrongSORT's smoothing of the boxes):
 
+:func:`fill_occluded`: while a dancer is hidden behind others (status ``occluded``) its box is a prediction from its
+last clear box and velocity. Where the dancer was seen again is known by the end, so each such stretch is filled
+by linear interpolation (box centre and size) between its box on the last frame it was seen before and on the
+first frame it was seen again. A dancer hidden behind a partner moves on while unseen, where its predicted box
+either stands still or runs on with a stale velocity (hdvr synth seed 1210 swing couple: IDF1 0.762 -> 0.887).
 A re-identification is trusted as the end of a stretch only when the dancer then stays seen for
 ``min_seen_after`` frames in a row (or to the end of the video): a dancer taken for one frame on the wrong person
 and lost again would drag the whole filled stretch there (hdvr synth seed 505 hip-hop trio, frame 107). A
@@ -18,12 +19,18 @@ the frame), one after an exit from the frame, and a dancer that waits hidden beh
 front, where its box stays, than by a straight line from its start box (measured on 936 hdvr synth clips:
 filling those stretches too lowered the mean IDF1 of the clips with a hidden start from 0.9451 to 0.9446).
 
+:func:`smooth_boxes`: the box centre and size of each run of frames with a box (``tracked`` or ``occluded``) are
+averaged over a centred window of ``window`` frames: the tracker and the detector each move a box by a few pixels
+from frame to frame where the dancer moves smoothly (936 hdvr synth clips, after the filling: clips below IDF1 0.9
+or with a switch 67 -> 62 with 9 frames; docs/benchmarks.md "session 31").
+
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
 
 from __future__ import annotations
 
 import numpy as np
+from scipy.ndimage import uniform_filter1d
 
 TRACKED, OCCLUDED, HIDDEN = "tracked", "occluded", "hidden"
 
@@ -31,6 +38,9 @@ TRACKED, OCCLUDED, HIDDEN = "tracked", "occluded", "hidden"
 #: (chosen on 936 hdvr synth clips: 3 and 5 frames gave 67 and 68 clips below IDF1 0.9 or with a switch, 72 without
 #: hindsight; docs/benchmarks.md "session 31")
 MIN_SEEN_AFTER = 3
+#: frames of the centred moving average of :func:`smooth_boxes` (0.3 s at 30 frames/s; chosen on the 936 clips:
+#: 7, 9, 13 and 17 frames gave 65, 62, 61 and 62 clips failing, 9 the fewest switches, 18)
+SMOOTH_WINDOW = 9
 
 
 def occluded_stretches(status) -> list[tuple[int, int]]:
@@ -79,3 +89,28 @@ def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTE
             out[first:after, i] = interpolate_boxes(ends[0], ends[1], after - first)
             filled[first:after, i] = True
     return out, filled
+
+
+def smooth_boxes(boxes: np.ndarray, status, window: int = SMOOTH_WINDOW) -> np.ndarray:
+    """``boxes`` (T, N, 4) px with the centre and size of each dancer's boxes averaged over ``window`` frames
+    centred on each frame (the ends of a run padded with its first and last box), within each run of frames with
+    a box and status ``tracked`` or ``occluded``; runs shorter than ``window`` and other frames are kept. A
+    box inside the frame stays inside it (its corners are averages of boxes inside it). The input is not changed."""
+    boxes = np.asarray(boxes, float)
+    if boxes.ndim != 3 or boxes.shape[2] != 4:
+        raise ValueError(f"boxes must be (T, N, 4), got {boxes.shape}")
+    if window < 1:
+        raise ValueError(f"window must be >= 1, got {window}")
+    status = np.asarray([tuple(s) for s in status], dtype=object).reshape(boxes.shape[:2])
+    out = boxes.copy()
+    for i in range(boxes.shape[1]):
+        has_box = np.isfinite(boxes[:, i]).all(axis=1) & np.isin(status[:, i], (TRACKED, OCCLUDED))
+        edges = np.flatnonzero(np.diff(np.r_[0, has_box.astype(np.int8), 0]))
+        for a, b in zip(edges[::2], edges[1::2]):
+            if b - a < window:
+                continue
+            centre = boxes[a:b, i, :2] + boxes[a:b, i, 2:] / 2
+            size = uniform_filter1d(boxes[a:b, i, 2:], window, axis=0, mode="nearest")
+            centre = uniform_filter1d(centre, window, axis=0, mode="nearest")
+            out[a:b, i] = np.concatenate([centre - size / 2, size], axis=1)
+    return out
