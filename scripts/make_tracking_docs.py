@@ -179,7 +179,7 @@ def main(argv=None) -> int:
             pictures = [draw_case(frame, gt[frame_index], t[frame_index], detections, crop_boxes=both)
                         for t in tracked]
             path = args.out / name
-            _write_jpeg(path, _side_by_side(*pictures, ("online (--no-hindsight)", "occluded stretch filled")))
+            _write_jpeg(path, _side_by_side(*pictures, ("online (--no-hindsight)", "with hindsight: filled and smoothed")))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with hindsight",
                   file=sys.stderr)
     return 0
