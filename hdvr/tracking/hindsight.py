@@ -50,6 +50,18 @@ def occluded_stretches(status) -> list[tuple[int, int]]:
     return [(int(a), int(b) - 1) for a, b in zip(edges[::2], edges[1::2])]
 
 
+def _checked(boxes, status, **counts) -> tuple[np.ndarray, np.ndarray]:
+    """``boxes`` as a (T, N, 4) float array and ``status`` as a (T, N) object array; ValueError for other shapes and
+    for any of ``counts`` (name=value) below 1."""
+    boxes = np.asarray(boxes, float)
+    if boxes.ndim != 3 or boxes.shape[2] != 4:
+        raise ValueError(f"boxes must be (T, N, 4), got {boxes.shape}")
+    for name, value in counts.items():
+        if value < 1:
+            raise ValueError(f"{name} must be >= 1, got {value}")
+    return boxes, np.asarray([tuple(s) for s in status], dtype=object).reshape(boxes.shape[:2])
+
+
 def interpolate_boxes(start, end, steps: int) -> np.ndarray:
     """(steps, 4) boxes strictly between (x, y, w, h) px boxes ``start`` and ``end``, evenly spaced in time:
     centre and size are interpolated linearly (so a box that grows does not also drift)."""
@@ -67,12 +79,7 @@ def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTE
     (``tracked``, ``occluded``, ``hidden``, ``out``, ``absent``). Returns the new boxes and a (T, N) bool mask of the
     frames filled. The input is not changed.
     """
-    boxes = np.asarray(boxes, float)
-    if boxes.ndim != 3 or boxes.shape[2] != 4:
-        raise ValueError(f"boxes must be (T, N, 4), got {boxes.shape}")
-    if min_seen_after < 1:
-        raise ValueError(f"min_seen_after must be >= 1, got {min_seen_after}")
-    status = np.asarray([tuple(s) for s in status], dtype=object).reshape(boxes.shape[:2])
+    boxes, status = _checked(boxes, status, min_seen_after=min_seen_after)
     out = boxes.copy()
     filled = np.zeros(boxes.shape[:2], bool)
     num_frames = boxes.shape[0]
@@ -96,12 +103,7 @@ def smooth_boxes(boxes: np.ndarray, status, window: int = SMOOTH_WINDOW) -> np.n
     centred on each frame (the ends of a run padded with its first and last box), within each run of frames with
     a box and status ``tracked`` or ``occluded``; runs shorter than ``window`` and other frames are kept. A
     box inside the frame stays inside it (its corners are averages of boxes inside it). The input is not changed."""
-    boxes = np.asarray(boxes, float)
-    if boxes.ndim != 3 or boxes.shape[2] != 4:
-        raise ValueError(f"boxes must be (T, N, 4), got {boxes.shape}")
-    if window < 1:
-        raise ValueError(f"window must be >= 1, got {window}")
-    status = np.asarray([tuple(s) for s in status], dtype=object).reshape(boxes.shape[:2])
+    boxes, status = _checked(boxes, status, window=window)
     out = boxes.copy()
     for i in range(boxes.shape[1]):
         has_box = np.isfinite(boxes[:, i]).all(axis=1) & np.isin(status[:, i], (TRACKED, OCCLUDED))
