@@ -421,6 +421,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
             gt, truth = _seen_truth(clip)
             n = gt.shape[1]
             order, starts = _starts_from_truth(gt)
+            shown = _fewest_frames_shown(truth)
             for thr, detector in detectors.items():
                 run = track_video(clip / "video.mp4", tmp / "synth-out", detector=detector, starts=starts,
                                   detect_every=3, overlay=False, write=False, config=config, hindsight=hindsight)
@@ -436,7 +437,6 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
                              f"{s.hota:.3f} | {s.id_switches} | {' / '.join(f'{p:.2f}' for p in posed)} | "
                              f"{' / '.join(f'{p:.2f}' for p in pcks)} | {pooled:.3f} | {pooled25:.3f} | "
                              f"{loose.idf1:.3f} / {loose.id_switches} | {len(run.hidden_starts)} |")
-                shown = _fewest_frames_shown(truth)
                 scores[thr].append((s.idf1, s.id_switches, len(run.hidden_starts), shown))
                 for key, count in miss_causes(gt, tracked, truth[..., 2].mean(axis=-1)).items():
                     causes[thr][key] = causes[thr].get(key, 0) + count

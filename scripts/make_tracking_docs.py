@@ -139,6 +139,15 @@ def _side_by_side(left: np.ndarray, right: np.ndarray, titles) -> np.ndarray:
     return cv2.hconcat(panels)
 
 
+def _write_two_runs(path: Path, video: Path, detector, frame_index: int, gt: np.ndarray, tracked, titles) -> None:
+    """JPEG ``path``: frame ``frame_index`` of ``video`` as two runs ``tracked`` ((T, N, 4) px each) boxed it,
+    side by side under ``titles``, both cropped alike."""
+    frame, detections = _frame_and_detections(video, detector, frame_index)
+    both = np.concatenate([tracked[0][frame_index], tracked[1][frame_index]])
+    pictures = [draw_case(frame, gt[frame_index], t[frame_index], detections, crop_boxes=both) for t in tracked]
+    _write_jpeg(path, _side_by_side(*pictures, titles))
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
@@ -165,21 +174,15 @@ def main(argv=None) -> int:
             default = MultiTrackerConfig()
             off = replace(default, **{field: type(getattr(default, field))()})  # 0, 0.0 or False
             gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [off, default])
-            frame, detections = _frame_and_detections(video, detector, frame_index)
-            both = np.concatenate([tracked[0][frame_index], tracked[1][frame_index]])
-            pictures = [draw_case(frame, gt[frame_index], t[frame_index], detections, crop_boxes=both)
-                        for t in tracked]
             path = args.out / name
-            _write_jpeg(path, _side_by_side(*pictures, (f"{field} off", f"{field} = {getattr(default, field)}")))
+            _write_two_runs(path, video, detector, frame_index, gt, tracked,
+                            (f"{field} off", f"{field} = {getattr(default, field)}"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, {field} off and on", file=sys.stderr)
         for seed, index, genre, n, frame_index, name in HINDSIGHT if args.only in (None, "hindsight") else ():
             gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [None, None], [False, True])
-            frame, detections = _frame_and_detections(video, detector, frame_index)
-            both = np.concatenate([tracked[0][frame_index], tracked[1][frame_index]])
-            pictures = [draw_case(frame, gt[frame_index], t[frame_index], detections, crop_boxes=both)
-                        for t in tracked]
             path = args.out / name
-            _write_jpeg(path, _side_by_side(*pictures, ("online (--no-hindsight)", "with hindsight: filled and smoothed")))
+            _write_two_runs(path, video, detector, frame_index, gt, tracked,
+                            ("online (--no-hindsight)", "with hindsight: filled and smoothed"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with hindsight",
                   file=sys.stderr)
     return 0

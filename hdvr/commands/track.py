@@ -58,8 +58,6 @@ def make_detector(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    import numpy as np
-
     from hdvr.tracking.boxes import parse_boxes, read_start_boxes
     from hdvr.tracking.pipeline import DancerStart, track_video, tracked_fraction
 
@@ -74,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
     pose_found = (result.keypoints[..., 2] > 0).any(axis=2).mean(axis=0)
     print(f"tracked {result.boxes.shape[1]} dancers over {frames} frames in {result.seconds:.1f} s "
           f"({frames / max(result.seconds, 1e-9):.1f} frames/s)")
-    filled = result.filled.sum(axis=0) if result.filled is not None else np.zeros(result.boxes.shape[1], int)
+    filled = result.filled.sum(axis=0)
     for i in range(result.boxes.shape[1]):
         note = f" ({filled[i]} hidden frames filled with hindsight)" if filled[i] else ""
         print(f"  dancer {i}: seen in {100 * seen[i]:.0f}% of frames{note}, pose in {100 * pose_found[i]:.0f}%")

@@ -34,9 +34,9 @@ from hdvr.pose2d.selection import PoseSelector
 from hdvr.progress import progress
 from hdvr.tracking.appearance import box_iou, box_overlap
 from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
-from hdvr.tracking.hindsight import HIDDEN, MIN_SEEN_AFTER, SMOOTH_WINDOW, fill_occluded, smooth_boxes
+from hdvr.tracking.hindsight import MIN_SEEN_AFTER, SMOOTH_WINDOW, fill_occluded, smooth_boxes
 from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
-from hdvr.tracking.state import body_core
+from hdvr.tracking.state import HIDDEN, body_core
 from hdvr.video import VideoReader, VideoWriter
 
 

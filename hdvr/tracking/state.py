@@ -12,6 +12,7 @@ import numpy as np
 from hdvr.tracking.ldes import LDESTracker
 
 TRACKED, OCCLUDED, OUT = "tracked", "occluded", "out"
+HIDDEN = "hidden"  # written (not a tracker state) for a dancer that waits hidden behind another since its start
 
 
 @dataclass
