@@ -6,7 +6,8 @@ amodal ground-truth box thin, its tracked box thick in the same colour, with the
 person boxes of that frame in white. Writes one JPEG per (seed, clip, frame) into docs/img, for the cases of
 ``BEFORE_AFTER`` one picture with the frame tracked without a rule (left) and with it (right), and for those of
 ``HINDSIGHT`` one with the online tracker's boxes (left) and the boxes written, occluded stretches filled with
-hindsight (right).
+hindsight (right), and for those of ``KEYPOINT_REACH`` one with the boxes filled and smoothed (left) and widened to
+the dancers' keypoints before the smoothing, as written (right).
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -37,6 +38,10 @@ BEFORE_AFTER = (
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (
     (1412, 5, "ballet", 4, 89, "tracking_hindsight_s1412_ballet_089.jpg"),
+)
+#: (seed, clip index, genre, dancers, frame, picture name): a frame where a box is widened to its dancer's keypoints
+KEYPOINT_REACH = (
+    (701, 5, "ballet", 4, 93, "tracking_keypoint_reach_s701_ballet_093.jpg"),
 )
 COLOURS = [(0, 0, 255), (0, 190, 0), (255, 60, 0), (0, 200, 220)]  # BGR
 
@@ -80,12 +85,11 @@ def draw_case(frame: np.ndarray, gt: np.ndarray, tracked: np.ndarray, detections
     return picture
 
 
-def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, configs, hindsight=None):
-    """Render clip ``index`` of ``seed`` and track it once per config (and per ``hindsight`` flag, zipped with
-    ``configs``; default on); returns (gt (T, N, 4), tracked boxes per config (T, N, 4), path of the video),
-    dancers in the clip's order."""
+def _render_case(tmp: Path, seed: int, index: int, genre: str, n: int):
+    """Render clip ``index`` of ``seed``: (gt (T, N, 4) boxes in the clip's order, start of each dancer in the order
+    track_video numbers them, that order, path of the video)."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
-    from hdvr.tracking.pipeline import DancerStart, track_video
+    from hdvr.tracking.pipeline import DancerStart
 
     spec = ClipSpec(index, seed, genre, n, 4.0)
     make_clip(tmp, spec, render=True)
@@ -95,12 +99,37 @@ def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, 
     first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(n)]
     order = sorted(range(n), key=lambda i: first[i])
     starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
+    return gt, starts, order, clip / "video.mp4"
+
+
+def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, configs, hindsight=None):
+    """Render clip ``index`` of ``seed`` and track it once per config (and per ``hindsight`` flag, zipped with
+    ``configs``; default on); returns (gt (T, N, 4), tracked boxes per config (T, N, 4), path of the video),
+    dancers in the clip's order."""
+    from hdvr.tracking.pipeline import track_video
+
+    gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
     tracked = []
     for config, filled in zip(configs, hindsight or [True] * len(configs)):
-        run = track_video(clip / "video.mp4", tmp / "out", detector=detector, starts=starts, detect_every=3,
+        run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3,
                           overlay=False, write=False, config=config, hindsight=filled)
         tracked.append(run.boxes[:, np.argsort(order)])
-    return gt, tracked, clip / "video.mp4"
+    return gt, tracked, video
+
+
+def _widening_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int):
+    """Render and track clip ``index`` of ``seed`` once; returns (gt, [boxes filled and smoothed, boxes filled,
+    widened to the keypoints and smoothed (as written)], path of the video), dancers in the clip's order."""
+    from hdvr.tracking.hindsight import enclose_keypoints, fill_occluded, smooth_boxes
+    from hdvr.tracking.pipeline import track_video
+
+    gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
+    run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
+                      write=False, hindsight=False)
+    filled, _ = fill_occluded(run.boxes, run.status)
+    widened, _ = enclose_keypoints(filled, run.status, run.keypoints, frame_width=run.size[0])
+    both = [smooth_boxes(filled, run.status), smooth_boxes(widened, run.status)]
+    return gt, [b[:, np.argsort(order)] for b in both], video
 
 
 def _frame_and_detections(video: Path, detector, frame_index: int):
@@ -151,8 +180,9 @@ def _write_two_runs(path: Path, video: Path, detector, frame_index: int, gt: np.
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
-    parser.add_argument("--only", choices=("limits", "before-after", "hindsight"), default=None,
-                        help="write only the limit pictures, the before/after ones or the hindsight ones")
+    parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints"), default=None,
+                        help="write only the limit pictures, the before/after ones, the hindsight ones or the ones "
+                             "of boxes widened to the keypoints")
     args = parser.parse_args(argv)
 
     from dataclasses import replace
@@ -182,8 +212,15 @@ def main(argv=None) -> int:
             gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [None, None], [False, True])
             path = args.out / name
             _write_two_runs(path, video, detector, frame_index, gt, tracked,
-                            ("online (--no-hindsight)", "with hindsight: filled and smoothed"))
+                            ("online (--no-hindsight)", "with hindsight (as written)"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with hindsight",
+                  file=sys.stderr)
+        for seed, index, genre, n, frame_index, name in KEYPOINT_REACH if args.only in (None, "keypoints") else ():
+            gt, tracked, video = _widening_case(tmp, detector, seed, index, genre, n)
+            path = args.out / name
+            _write_two_runs(path, video, detector, frame_index, gt, tracked,
+                            ("filled and smoothed", "widened to the keypoints too (as written)"))
+            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the widening",
                   file=sys.stderr)
     return 0
 

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, fill_occluded, interpolate_boxes, occluded_stretches,
-                                     smooth_boxes)
+from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, enclose_keypoints, fill_occluded, interpolate_boxes,
+                                     occluded_stretches, smooth_boxes)
 
 
 def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
@@ -137,3 +137,85 @@ def test_smoothing_refuses_wrong_shapes_and_windows():
         smooth_boxes(np.zeros((5, 4)), [("tracked",)] * 5)
     with pytest.raises(ValueError, match="window"):
         smooth_boxes(np.zeros((5, 1, 4)), [("tracked",)] * 5, window=0)
+
+
+def _skeleton(box, spread: float = 0.0, joints: int = 25, confidence: float = 0.9) -> np.ndarray:
+    """(joints, 3) keypoints x px, y px, confidence spread evenly over ``box`` (x, y, w, h px), the first one (a
+    wrist) ``spread`` px further left than the box if ``spread`` > 0."""
+    x, y, w, h = box
+    kp = np.stack([np.linspace(x + 0.2 * w, x + 0.8 * w, joints), np.linspace(y + 0.1 * h, y + 0.9 * h, joints),
+                   np.full(joints, confidence)], axis=1)
+    if spread > 0:
+        kp[0, 0] = x - spread
+    return kp
+
+
+def test_a_box_is_widened_to_a_spread_arm_and_the_reach_beyond_it():
+    boxes = np.array([[[100.0, 50, 40, 100], [300, 50, 40, 100]]])  # one frame, two dancers
+    keypoints = np.stack([_skeleton(boxes[0, 0], spread=30), _skeleton(boxes[0, 1])])[None]
+    out, widened = enclose_keypoints(boxes, [("tracked", "tracked")], keypoints, reach=0.06)
+    np.testing.assert_allclose(out[0, 0], [100 - 30 - 6, 50, 40 + 36, 100])  # the wrist 30 px out, 0.06 x 100 px
+    np.testing.assert_array_equal(out[0, 1], boxes[0, 1])  # its skeleton lies inside with room to spare
+    np.testing.assert_array_equal(widened, [[True, False]])
+    assert boxes[0, 0, 0] == 100.0  # input unchanged
+
+
+def test_a_box_only_grows_and_only_sideways():
+    box = np.array([100.0, 50, 40, 100])
+    kp = _skeleton((110, 0, 20, 200))  # narrower than the box, but twice as tall
+    out, widened = enclose_keypoints(box[None, None], [("tracked",)], kp[None, None])
+    np.testing.assert_array_equal(out[0, 0], box)
+    assert not widened.any()
+
+
+def test_weak_few_or_missing_keypoints_and_boxes_without_a_dancer_change_nothing():
+    box = np.array([100.0, 50, 40, 100])
+    weak = _skeleton(box, spread=30, confidence=0.1)
+    few = _skeleton(box, spread=30)
+    few[4:, :2], few[4:, 2] = np.nan, 0.0  # 4 keypoints left
+    spread = _skeleton(box, spread=30)
+    boxes = np.tile(box, (5, 1, 1))
+    status = [("tracked",), ("tracked",), ("occluded",), ("hidden",), ("out",)]
+    out, widened = enclose_keypoints(boxes, status, np.stack([weak, few, spread, spread, spread])[:, None],
+                                     min_keypoints=5)
+    np.testing.assert_array_equal(out, boxes)  # only a dancer seen is widened, and only to keypoints it is sure of
+    assert not widened.any()
+    nan_box = np.full((1, 1, 4), np.nan)
+    assert np.isnan(enclose_keypoints(nan_box, [("tracked",)], spread[None, None])[0]).all()
+
+
+def test_a_pose_that_does_not_fit_the_box_is_someone_else_s():
+    """A small dancer behind a tall one given the tall one's pose: its torso lies beside the box, or its keypoints
+    run far below it; the box keeps its width. Within the height margin, a pose counts."""
+    box = np.array([100.0, 50, 40, 100])
+    beside = _skeleton((150, 50, 40, 100), spread=80)  # torso right of the box, a wrist far left of it
+    taller = _skeleton((90, 50, 60, 200), spread=30)  # torso inside the box, but the legs reach 100 px below it
+    raised = _skeleton(box, spread=30)
+    raised[0, 1] = 42.0  # a hand 8 px above the box: within 0.1 x its height
+    boxes = np.tile(box, (3, 1, 1))
+    out, widened = enclose_keypoints(boxes, [("tracked",)] * 3, np.stack([beside, taller, raised])[:, None])
+    np.testing.assert_array_equal(out[:2], boxes[:2])
+    np.testing.assert_array_equal(widened[:, 0], [False, False, True])
+    np.testing.assert_allclose(out[2, 0], [100 - 30 - 6, 50, 76, 100])
+
+
+def test_a_widened_box_stays_inside_the_frame():
+    box = np.array([10.0, 50, 40, 100])
+    out, widened = enclose_keypoints(box[None, None], [("tracked",)], _skeleton(box, spread=8)[None, None],
+                                     frame_width=640)
+    assert out[0, 0, 0] == 0.0 and out[0, 0, 0] + out[0, 0, 2] == 50.0 and widened.all()
+    outside = np.array([-5.0, 50, 40, 100])  # a box already past the edge is not cut by the clipping
+    out, _ = enclose_keypoints(outside[None, None], [("tracked",)], _skeleton(outside)[None, None], frame_width=640)
+    np.testing.assert_array_equal(out[0, 0], outside)
+
+
+def test_enclosing_refuses_wrong_shapes_and_settings():
+    boxes, status = np.zeros((5, 1, 4)), [("tracked",)] * 5
+    with pytest.raises(ValueError, match="keypoints"):
+        enclose_keypoints(boxes, status, np.zeros((5, 2, 25, 3)))
+    with pytest.raises(ValueError, match="BODY_25"):
+        enclose_keypoints(boxes, status, np.zeros((5, 1, 17, 3)))
+    with pytest.raises(ValueError, match="reach"):
+        enclose_keypoints(boxes, status, np.zeros((5, 1, 25, 3)), reach=-0.1)
+    with pytest.raises(ValueError, match="min_keypoints"):
+        enclose_keypoints(boxes, status, np.zeros((5, 1, 25, 3)), min_keypoints=0)

@@ -343,11 +343,11 @@ def _sees_what_is_clear(truth):
 
 def test_an_occluded_stretch_gets_boxes_filled_with_hindsight(tmp_path):
     """A figure walks behind a still one and out on the other side. Its occluded frames are filled between its box
-    on the last frame it was seen and on the first frame it was seen again, then every box is smoothed over time
-    (the box stays on it: IoU >= 0.6); tracks.json lists the frames filled and the MOT file holds the boxes written,
+    on the last frame it was seen and on the first frame it was seen again, widened to the keypoints chosen for it
+    and smoothed over time (the box stays on it: IoU >= 0.6); tracks.json lists the frames filled and the MOT file holds the boxes written,
     and the overlay is drawn with them."""
     from hdvr.tracking.evaluation import iou_matrix
-    from hdvr.tracking.hindsight import fill_occluded, smooth_boxes
+    from hdvr.tracking.hindsight import enclose_keypoints, fill_occluded, smooth_boxes
     from hdvr.tracking.pipeline import track_video
 
     path = tmp_path / "cross.mp4"
@@ -364,7 +364,8 @@ def test_an_occluded_stretch_gets_boxes_filled_with_hindsight(tmp_path):
     assert np.flatnonzero(runs[True].filled[:, 1]).tolist() == occluded and not runs[True].filled[:, 0].any()
     online, written = runs[False].boxes, runs[True].boxes
     filled, _ = fill_occluded(online, runs[False].status)
-    np.testing.assert_allclose(written, smooth_boxes(filled, runs[False].status))
+    widened, _ = enclose_keypoints(filled, runs[False].status, runs[False].keypoints, frame_width=640)
+    np.testing.assert_allclose(written, smooth_boxes(widened, runs[False].status))
     assert min(iou_matrix(truth.boxes[t, 1][None], written[t, 1][None])[0, 0] for t in occluded) >= 0.6
     doc = json.loads((tmp_path / "outTrue" / "tracks.json").read_text())
     assert doc["filled_with_hindsight"] == [[], occluded]
@@ -395,3 +396,36 @@ def test_a_dancer_waiting_hidden_since_its_start_is_reported_hidden_and_not_fill
     assert tracked_fraction(run)[1] == pytest.approx(1 - len(hidden) / 50)
 
 
+
+
+def test_the_box_written_reaches_a_spread_arm_that_the_pose_shows(tmp_path):
+    """The detector's person box leaves out a dancer's arm stretched to the left, its keypoints show it: the box
+    written reaches past the wrist (by the body beyond it), the online box does not. (After the last detector frame,
+    21, no keypoints are written, and the smoothing over 9 frames carries that from frame 18 on.)"""
+    from hdvr.pose2d.base import PersonPose
+    from hdvr.tracking.hindsight import KEYPOINT_REACH, smooth_boxes
+    from hdvr.tracking.pipeline import track_video
+
+    path = tmp_path / "still.mp4"
+    truth = render_clip(path, frames=24, size=(640, 480),
+                        specs=[FigureSpec((320.0, 240.0), (0.0, 0.0), 180.0, ((40, 40, 210), (40, 200, 230)), depth=0.0)])
+    x, y, w, h = (float(v) for v in truth.boxes[0, 0])
+    wrist_x = x - 40.0
+
+    class ArmOutsideTheBox:
+        name, supports_crops = "fake", False
+
+        def detect(self, frame_bgr, t):
+            kp = np.zeros((17, 3), np.float32)  # COCO-17: down the figure's centre line, the right wrist far left
+            kp[:, 0], kp[:, 1], kp[:, 2] = x + w / 2, np.linspace(y + 0.05 * h, y + 0.95 * h, 17), 0.9
+            kp[10, 0] = wrist_x
+            return [PersonPose(kp, (x, y, w, h), 0.9)]
+
+    runs = {hs: track_video(path, tmp_path / f"out{hs}", detector=ArmOutsideTheBox(), boxes=truth.boxes[0],
+                            detect_every=3, overlay=False, write=False, hindsight=hs) for hs in (True, False)}
+    assert (runs[False].boxes[:, 0, 0] > wrist_x).all()
+    written = runs[True].boxes[:, 0]
+    assert np.abs(written[:18, 0] - (wrist_x - KEYPOINT_REACH * written[:18, 3])).max() < 1.0
+    assert (written[:, 0] <= runs[False].boxes[:, 0, 0] + 1e-6).all()
+    smoothed = smooth_boxes(runs[False].boxes, runs[False].status)
+    np.testing.assert_allclose(written[:, 1:4:2], smoothed[:, 0, 1:4:2])  # top and height only smoothed

@@ -1,6 +1,7 @@
-"""Hindsight once a whole video is tracked: occluded stretches filled, and boxes smoothed over time.
+"""Hindsight once a whole video is tracked: occluded stretches filled, boxes widened to their keypoints, and boxes
+smoothed over time.
 
-Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so two offline steps can use the
+Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so three offline steps can use the
 frames after each one, as offline multi-object trackers do (ByteTrack's and StrongSORT's linear interpolation of the
 missing frames of a track, StrongSORT's smoothing of the boxes):
 
@@ -19,6 +20,21 @@ the frame), one after an exit from the frame, and a dancer that waits hidden beh
 front, where its box stays, than by a straight line from its start box (measured on 936 hdvr synth clips:
 filling those stretches too lowered the mean IDF1 of the clips with a hidden start from 0.9451 to 0.9446).
 
+:func:`enclose_keypoints`: each box of a dancer seen (``tracked``) is widened, left and right, to enclose the
+keypoints written for it (those of the pose Algorithm 2* chose, interpolated between detector frames), plus
+``reach`` x the box height for the body beyond its outermost joints (the hand beyond the wrist, the foot beyond the
+ankle, the limb's own thickness: about 0.1 m of a 1.7 m dancer, 0.06 of a box about 1.9 m tall at the dancer's
+depth). While a dancer overlaps others its tracked box keeps the size it had when clear, and the detector's person
+box often leaves out a spread arm or a raised leg that its keypoints show, so the written box would miss part of
+the written skeleton. Only a pose that fits the box counts: its torso (neck, shoulders, hips) lies between the box's
+sides and all its keypoints within the box's height, give or take ``height_margin`` (Algorithm 2* sometimes gives a
+dancer behind another the pose of the one in front: hdvr synth seed 809 hip-hop quartet, a small dancer's box
+would have doubled its width to the pose of the tall dancer in front, IoU 0.94 -> 0.82 without the test). Only
+keypoints of confidence ``min_confidence`` or more count, and only when ``min_keypoints`` of them do. Boxes only
+grow, and only sideways: a dancer's height is what the tracker and the detector follow best, and widening it to the
+keypoints too added identity switches (936 hdvr synth clips: clips below IDF1 0.9 or with a switch 63 -> 54, mean
+0.9784 -> 0.9801; docs/benchmarks.md "session 32").
+
 :func:`smooth_boxes`: the box centre and size of each run of frames with a box (``tracked`` or ``occluded``) are
 averaged over a centred window of ``window`` frames: the tracker and the detector each move a box by a few pixels
 from frame to frame where the dancer moves smoothly (936 hdvr synth clips, after the filling: clips below IDF1 0.9
@@ -29,15 +45,28 @@ Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dance
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 from scipy.ndimage import uniform_filter1d
 
+from hdvr.io.keypoints2d import BODY25_NAMES
 from hdvr.tracking.state import OCCLUDED, TRACKED
 
 #: frames in a row a dancer must be seen after a stretch occluded for the stretch to be filled towards it
 #: (chosen on 936 hdvr synth clips: 3 and 5 frames gave 67 and 68 clips below IDF1 0.9 or with a switch, 72 without
 #: hindsight; docs/benchmarks.md "session 31")
 MIN_SEEN_AFTER = 3
+#: how far a dancer's body reaches beyond its outermost keypoint, in box heights (:func:`enclose_keypoints`)
+KEYPOINT_REACH = 0.06
+#: keypoint confidence from which a keypoint widens its dancer's box
+MIN_KEYPOINT_CONFIDENCE = 0.3
+#: keypoints of that confidence a dancer needs in a frame for its box to be widened to them
+MIN_KEYPOINTS = 5
+#: how far (in box heights) above or below its box a keypoint may lie for the pose to count as the dancer's
+POSE_HEIGHT_MARGIN = 0.1
+_TORSO = [BODY25_NAMES.index(name) for name in ("neck", "right_shoulder", "left_shoulder", "mid_hip", "right_hip",
+                                                 "left_hip")]
 #: frames of the centred moving average of :func:`smooth_boxes` (0.3 s at 30 frames/s; chosen on the 936 clips:
 #: 7, 9, 13 and 17 frames gave 65, 62, 61 and 62 clips failing, 9 the fewest switches, 18)
 SMOOTH_WINDOW = 9
@@ -100,6 +129,46 @@ def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTE
             out[first:after, i] = interpolate_boxes(ends[0], ends[1], after - first)
             filled[first:after, i] = True
     return out, filled
+
+
+def enclose_keypoints(boxes: np.ndarray, status, keypoints: np.ndarray, reach: float = KEYPOINT_REACH,
+                      min_confidence: float = MIN_KEYPOINT_CONFIDENCE, min_keypoints: int = MIN_KEYPOINTS,
+                      height_margin: float = POSE_HEIGHT_MARGIN,
+                      frame_width: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """``boxes`` (T, N, 4) px widened to enclose each dancer's BODY_25 ``keypoints`` (T, N, 25, 3: x px, y px,
+    confidence; NaN where missing), with ``reach`` x the box height beyond the outermost ones (module docstring), in
+    frames where the dancer is ``tracked`` and its pose fits its box: the mean of its torso keypoints (neck,
+    shoulders, hips) lies between the box's left and right sides, and all its keypoints lie within the box's height,
+    give or take ``height_margin`` x that height. No wider than the frame, given its width in px. Returns the new
+    boxes and a (T, N) bool mask of the boxes widened. The input is not changed."""
+    boxes, status = _checked(boxes, status, min_keypoints=min_keypoints)
+    keypoints = np.asarray(keypoints, float)
+    if keypoints.shape != boxes.shape[:2] + (len(BODY25_NAMES), 3):
+        raise ValueError(f"keypoints must be (T, N, 25, 3) BODY_25 for boxes {boxes.shape}, got {keypoints.shape}")
+    if reach < 0 or height_margin < 0:
+        raise ValueError(f"reach and height_margin must be >= 0, got {reach} and {height_margin}")
+    confident = (keypoints[..., 2] >= min_confidence) & np.isfinite(keypoints[..., :2]).all(axis=-1)
+    x = np.where(confident, keypoints[..., 0], np.nan)
+    y = np.where(confident, keypoints[..., 1], np.nan)
+    left, top, width, height = np.moveaxis(boxes, -1, 0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows (no keypoint): those are not used anyway
+        torso = np.nanmean(x[..., _TORSO], axis=-1)
+        lowest, highest = np.nanmax(y, axis=-1), np.nanmin(y, axis=-1)
+        new_left = np.fmin(left, np.nanmin(x, axis=-1) - reach * height)
+        new_right = np.fmax(left + width, np.nanmax(x, axis=-1) + reach * height)
+    with np.errstate(invalid="ignore"):  # NaN boxes and keypoints compare False: not widened
+        fits = (left <= torso) & (torso <= left + width) & (highest >= top - height_margin * height) \
+            & (lowest <= top + height + height_margin * height)
+    if frame_width is not None:  # clipped like the tracker's own boxes, but never cut below them
+        new_left = np.minimum(np.maximum(new_left, 0.0), left)
+        new_right = np.maximum(np.minimum(new_right, float(frame_width)), left + width)
+    widened = fits & (confident.sum(axis=-1) >= min_keypoints) & (status == TRACKED) \
+        & ((new_left < left) | (new_right > left + width))
+    out = boxes.copy()
+    out[..., 0] = np.where(widened, new_left, left)
+    out[..., 2] = np.where(widened, new_right - new_left, width)
+    return out, widened
 
 
 def smooth_boxes(boxes: np.ndarray, status, window: int = SMOOTH_WINDOW) -> np.ndarray:
