@@ -43,7 +43,8 @@ def register(subparsers) -> None:
                         "(faster on such clips; see docs/tracking.md)")
     p.add_argument("--no-hindsight", action="store_true",
                    help="write the online tracker's boxes: do not fill the stretches in which a dancer was hidden "
-                        "between where it was seen before and after (see docs/tracking.md)")
+                        "between where it was seen before and after, widen boxes to the keypoints chosen for "
+                        "them, nor smooth them over time (see docs/tracking.md)")
     p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")
     p.add_argument("--max-frames", type=int, default=None, help="stop after this many frames")
     p.set_defaults(func=run)
