@@ -344,8 +344,8 @@ def _sees_what_is_clear(truth):
 def test_an_occluded_stretch_gets_boxes_filled_with_hindsight(tmp_path):
     """A figure walks behind a still one and out on the other side. Its occluded frames are filled between its box
     on the last frame it was seen and on the first frame it was seen again, widened to the keypoints chosen for it
-    and smoothed over time (the box stays on it: IoU >= 0.6); tracks.json lists the frames filled and the MOT file holds the boxes written,
-    and the overlay is drawn with them."""
+    and smoothed over time (the box stays on it: IoU >= 0.6); tracks.json lists the frames filled and the MOT file
+    holds the boxes written, and the overlay is drawn with them."""
     from hdvr.tracking.evaluation import iou_matrix
     from hdvr.tracking.hindsight import enclose_keypoints, fill_occluded, smooth_boxes
     from hdvr.tracking.pipeline import track_video
@@ -407,8 +407,8 @@ def test_the_box_written_reaches_a_spread_arm_that_the_pose_shows(tmp_path):
     from hdvr.tracking.pipeline import track_video
 
     path = tmp_path / "still.mp4"
-    truth = render_clip(path, frames=24, size=(640, 480),
-                        specs=[FigureSpec((320.0, 240.0), (0.0, 0.0), 180.0, ((40, 40, 210), (40, 200, 230)), depth=0.0)])
+    figure = FigureSpec((320.0, 240.0), (0.0, 0.0), 180.0, ((40, 40, 210), (40, 200, 230)), depth=0.0)
+    truth = render_clip(path, frames=24, size=(640, 480), specs=[figure])
     x, y, w, h = (float(v) for v in truth.boxes[0, 0])
     wrist_x = x - 40.0
 

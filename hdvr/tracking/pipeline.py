@@ -9,9 +9,9 @@ Outputs in ``out_dir``:
 
 Frames are decoded and tracked one at a time; only small per-frame arrays (boxes and keypoints) are kept. Once
 all frames are tracked, the stretches in which a dancer was hidden behind others are filled with hindsight, the
-boxes widened to the keypoints chosen for their dancers and smoothed over time (:mod:`hdvr.tracking.hindsight`), and the overlay is drawn in a second pass over the
-video with the final boxes. If decoding or anything else stops the run early, the outputs for the frames done so
-far are written before the error is raised.
+boxes widened to the keypoints chosen for their dancers and smoothed over time (:mod:`hdvr.tracking.hindsight`),
+and the overlay is drawn in a second pass over the video with the final boxes. If decoding or anything else stops
+the run early, the outputs for the frames done so far are written before the error is raised.
 """
 
 from __future__ import annotations
