@@ -42,9 +42,9 @@ def register(subparsers) -> None:
                    help="do not run the detector again on a crop about a dancer that waits hidden behind another "
                         "(faster on such clips; see docs/tracking.md)")
     p.add_argument("--no-hindsight", action="store_true",
-                   help="write the online tracker's boxes: do not fill the stretches in which a dancer was hidden "
-                        "between where it was seen before and after, widen boxes to the keypoints chosen for "
-                        "them, nor smooth them over time (see docs/tracking.md)")
+                   help="write the online tracker's boxes: no filling of the stretches in which a dancer was "
+                        "hidden between where it was seen before and after, no widening of boxes to the keypoints "
+                        "chosen for them, no smoothing over time (see docs/tracking.md)")
     p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")
     p.add_argument("--max-frames", type=int, default=None, help="stop after this many frames")
     p.set_defaults(func=run)

@@ -29,7 +29,7 @@ box often leaves out a spread arm or a raised leg that its keypoints show, so th
 the written skeleton. Only a pose that fits the box counts: its torso (neck, shoulders, hips) lies between the box's
 sides and all its keypoints within the box's height, give or take ``height_margin`` (Algorithm 2* sometimes gives a
 dancer behind another the pose of the one in front: hdvr synth seed 809 hip-hop quartet, a small dancer's box
-would have doubled its width to the pose of the tall dancer in front, IoU 0.94 -> 0.82 without the test). Only
+would have doubled its width to the pose of the tall dancer in front: IDF1 0.944 -> 0.823 without the test). Only
 keypoints of confidence ``min_confidence`` or more count, and only when ``min_keypoints`` of them do. Boxes only
 grow, and only sideways: a dancer's height is what the tracker and the detector follow best, and widening it to the
 keypoints too added identity switches (936 hdvr synth clips: clips below IDF1 0.9 or with a switch 63 -> 54, mean
@@ -65,6 +65,7 @@ MIN_KEYPOINT_CONFIDENCE = 0.3
 MIN_KEYPOINTS = 5
 #: how far (in box heights) above or below its box a keypoint may lie for the pose to count as the dancer's
 POSE_HEIGHT_MARGIN = 0.1
+#: BODY_25 indices of the torso keypoints, whose mean must lie between a box's sides for its pose to widen it
 _TORSO = [BODY25_NAMES.index(name) for name in ("neck", "right_shoulder", "left_shoulder", "mid_hip", "right_hip",
                                                  "left_hip")]
 #: frames of the centred moving average of :func:`smooth_boxes` (0.3 s at 30 frames/s; chosen on the 936 clips:

@@ -45,9 +45,11 @@ class DancerTrack:
     adapted_at: int = -1  # last frame in which the box adapted to a detection while clear
     edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
     detected_at_edge: str | None = None  # "left" or "right": the last detection on the box was cut by that edge
-    beside_now: list = field(default_factory=list)  # (box, detector frames in a row) of the detections beside
-    beside_before: list = field(default_factory=list)  # others it could come out on, in its latest detector frame
-    beside_frame: int = -1  # and the one before (``MultiTrackerConfig.emerge_beside_persist``), and that frame
+    # detections half beside the dancers in front that a dancer waiting behind them could come out on
+    # (``MultiTrackerConfig.emerge_beside_persist``), as (box px, detector frames in a row one lay there):
+    beside_now: list = field(default_factory=list)  # in its latest detector frame, ``beside_frame``
+    beside_before: list = field(default_factory=list)  # in the detector frame before that
+    beside_frame: int = -1
     hidden_behind: int | None = None  # id of the dancer it started mostly hidden behind: its stored colours are
     # that dancer's until it comes out (:meth:`hdvr.tracking.multi.MultiDancerTracker._emerge`); then None
     start_partners: frozenset = frozenset()  # ids of the dancers whose body core overlapped this one's when either
