@@ -88,17 +88,16 @@ def draw_case(frame: np.ndarray, gt: np.ndarray, tracked: np.ndarray, detections
 def _render_case(tmp: Path, seed: int, index: int, genre: str, n: int):
     """Render clip ``index`` of ``seed``: (gt (T, N, 4) boxes in the clip's order, start of each dancer in the order
     track_video numbers them, that order, path of the video)."""
+    from bench_track import _starts_from_truth  # the starts the benchmark gives (scripts/ is on sys.path)
+
     from hdvr.synth.groundtruth import ClipSpec, make_clip
-    from hdvr.tracking.pipeline import DancerStart
 
     spec = ClipSpec(index, seed, genre, n, 4.0)
     make_clip(tmp, spec, render=True)
     clip = tmp / spec.name
     with np.load(clip / "gt.npz") as g:
         gt = np.transpose(g["boxes"], (1, 0, 2)).astype(float)
-    first = [int(np.flatnonzero(np.isfinite(gt[:, i]).all(axis=1))[0]) for i in range(n)]
-    order = sorted(range(n), key=lambda i: first[i])
-    starts = [DancerStart(first[i], tuple(gt[first[i], i])) for i in order]
+    order, starts = _starts_from_truth(gt)
     return gt, starts, order, clip / "video.mp4"
 
 

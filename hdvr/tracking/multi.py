@@ -1375,14 +1375,14 @@ class MultiDancerTracker(ReportedExtent):
                 if k in taken or not _height_within(det, d.box, c.max_height_change) \
                         or self._wider_than(det, d, c.emerge_max_aspect):
                     continue
-                overlaps = {o.dancer_id: self._bodies_overlap(det, o.box) for o in self.dancers
-                            if o is not d and o.status != OUT}
-                overlapped = [self.dancers[j] for j, v in overlaps.items() if v > c.overlap_threshold]
-                if overlapped and (not c.emerge_beside_persist
-                                   or max(overlaps.values()) >= c.emerge_beside_overlap):
-                    continue
                 distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
                 if distance > best_distance:
+                    continue
+                overlaps = [(o, self._bodies_overlap(det, o.box)) for o in self.dancers
+                            if o is not d and o.status != OUT]
+                overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
+                if overlapped and (not c.emerge_beside_persist
+                                   or max(v for _, v in overlaps) >= c.emerge_beside_overlap):
                     continue
                 if k not in histograms:
                     histograms[k] = colour_histogram(frame, det)
