@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, enclose_keypoints, fill_occluded, interpolate_boxes,
-                                     occluded_stretches, smooth_boxes)
+                                     occluded_stretches, smooth_boxes, trim_above_pose)
 
 
 def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
@@ -219,3 +219,60 @@ def test_enclosing_refuses_wrong_shapes_and_settings():
         enclose_keypoints(boxes, status, np.zeros((5, 1, 25, 3)), reach=-0.1)
     with pytest.raises(ValueError, match="min_keypoints"):
         enclose_keypoints(boxes, status, np.zeros((5, 1, 25, 3)), min_keypoints=0)
+
+
+def _full_pose(box, head_below_top: float, confidence: float = 0.9) -> np.ndarray:
+    """(25, 3) BODY_25 keypoints of a dancer in ``box`` (x, y, w, h px), spread over it: its highest keypoint (the nose)
+    ``head_below_top`` px below the box's top, the ankles at 0.85 of the box height; the feet (not in COCO-17) NaN."""
+    x, y, w, h = box
+    kp = np.full((25, 3), np.nan)
+    rows = np.linspace(y + head_below_top, y + 0.85 * h, 19)  # 19 joints of BODY_25 that COCO-17 gives
+    for k, row in zip(range(19), rows):
+        kp[k] = (x + w * (0.3 + 0.4 * (k % 2)), row, confidence)
+    return kp
+
+
+def test_a_box_reaching_far_above_a_full_pose_comes_down_to_the_head_s_reach():
+    """A tracked box whose top lies 50 px above the nose of a 200 px dancer (0.25 of its height: a size ratio
+    learned from a detection that left the legs out) comes down to 0.12 x its height above it, keeping its bottom;
+    a box 20 px above (0.10: within the head's reach) stays."""
+    far, near = np.array([100.0, 50, 80, 200]), np.array([300.0, 50, 80, 200])
+    keypoints = np.stack([_full_pose(far, 50), _full_pose(near, 20)])[None]
+    out, lowered = trim_above_pose(np.stack([far, near])[None], [("tracked", "tracked")], keypoints)
+    new_top = 50 + 50 - 0.12 * 200
+    np.testing.assert_allclose(out[0, 0], [100, new_top, 80, 250 - new_top])
+    np.testing.assert_array_equal(out[0, 1], near)
+    np.testing.assert_array_equal(lowered, [[True, False]])
+    assert far[1] == 50.0  # input unchanged
+
+
+def test_only_a_full_pose_of_a_dancer_seen_inside_its_box_lowers_it():
+    """A pose without its face (the highest keypoint would be a shoulder), weak keypoints, a pose reaching beside
+    the box (someone else's), and dancers not seen (occluded, hidden) keep their boxes."""
+    box = np.array([100.0, 50, 80, 200])
+    full = _full_pose(box, 60)
+    faceless = full.copy()
+    faceless[[0, 15, 16, 17, 18], :2], faceless[[0, 15, 16, 17, 18], 2] = np.nan, 0.0  # nose, eyes, ears gone
+    weak = _full_pose(box, 60, confidence=0.2)
+    beside = full.copy()
+    beside[4, 0] = 200.0  # a wrist 20 px right of the box
+    poses = [faceless, weak, beside, full, full, full]
+    status = [("tracked",)] * 4 + [("occluded",), ("hidden",)]
+    boxes = np.tile(box, (len(poses), 1, 1))
+    out, lowered = trim_above_pose(boxes, status, np.stack(poses)[:, None])
+    np.testing.assert_array_equal(lowered[:, 0], [False, False, False, True, False, False])
+    np.testing.assert_array_equal(np.delete(out, 3, axis=0), np.delete(boxes, 3, axis=0))
+
+
+def test_trimming_keeps_at_least_half_the_box_and_refuses_wrong_settings():
+    box = np.array([100.0, 50, 80, 200])
+    out, lowered = trim_above_pose(box[None, None], [("tracked",)], _full_pose(box, 150)[None, None])
+    np.testing.assert_array_equal(out[0, 0], box)  # the nose 150 px down: lowering would leave under half
+    assert not lowered.any()
+    boxes, status = np.zeros((5, 1, 4)), [("tracked",)] * 5
+    with pytest.raises(ValueError, match="BODY_25"):
+        trim_above_pose(boxes, status, np.zeros((5, 1, 17, 3)))
+    with pytest.raises(ValueError, match="reach"):
+        trim_above_pose(boxes, status, np.zeros((5, 1, 25, 3)), reach=-0.1)
+    with pytest.raises(ValueError, match="min_joints"):
+        trim_above_pose(boxes, status, np.zeros((5, 1, 25, 3)), min_joints=0)

@@ -890,24 +890,39 @@ def test_a_waiting_dancer_emerges_on_a_person_dressed_partly_like_the_dancer_in_
 def test_a_waiting_dancer_comes_out_half_beside_the_dancer_in_front_once_seen_there_three_times():
     """With ``emerge_beside_persist`` 3, a dancer waiting behind another takes a detection whose body core half
     overlaps the front dancer's (0.3 of it: no clear detection) when its colours are unlike the front dancer's memory
-    and such a detection lay there on the two detector frames before, within ``emerge_beside_gap`` frames of each
-    other (hdvr synth seed 1302 flamenco: the dancer behind stands half beside the taller one in front from frame 84
-    on, and never came out). Not on the first two, not after a gap, and never with the rule off (0)."""
+    and such a detection lay there on the two detector frames before (hdvr synth seed 1302 flamenco: the dancer
+    behind stands half beside the taller one in front from frame 84 on, and never came out). Not on the first two,
+    not after a detector frame that did not show it, and never with the rule off (0). Detector frames count, not
+    frames: every 8th frame it comes out on the third as well."""
     rng = np.random.default_rng(9)
     front_box, person = (280.0, 180.0, 120.0, 260.0), (270.0, 110.0, 60.0, 190.0)
     green, magenta, red, yellow = (60, 170, 80), (170, 40, 170), (40, 60, 200), (40, 200, 220)
     frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
     later = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (red, yellow))])
-    for persist, frames, emerged_at in ((3, (3, 6, 9), 9), (3, (3, 6, 20), None), (0, (3, 6, 9), None)):
+    # (persist, detector frames, the frames among them that show the person, frame it comes out on)
+    for persist, frames, shown, emerged_at in ((3, (3, 6, 9), (3, 6, 9), 9), (3, (8, 16, 24), (8, 16, 24), 24),
+                                               (3, (3, 6, 9, 12, 15), (3, 6, 12, 15), None),
+                                               (0, (3, 6, 9), (3, 6, 9), None)):
         tracker = _waiting_behind(frame, MultiTrackerConfig(emerge_beside_persist=persist))
         waiting, front = tracker.dancers
         assert 0.05 < tracker._bodies_overlap(person, front.box) < 0.5
         for t in frames:
             tracker.frame_index = t
-            tracker._emerge(later, [front_box, person])
+            tracker._emerge(later, [front_box, person] if t in shown else [front_box])
             assert (waiting.hidden_behind is None) == (emerged_at is not None and t >= emerged_at), (persist, t)
         if emerged_at is not None:
             assert box_iou(waiting.box, person) > 0.8
+
+
+def test_detector_frames_are_counted_by_step_whether_or_not_the_detector_found_anyone():
+    """``step`` with ``detections`` (even an empty list) marks a detector frame; without, it does not: the rules
+    that need a detection on detector frames in a row (``emerge_beside_persist``) see the frame before as the
+    previous detector frame, not the previous frame."""
+    frame = np.random.default_rng(3).integers(0, 255, (240, 320, 3), dtype=np.uint8)
+    tracker = MultiDancerTracker(frame, [(100.0, 50.0, 40.0, 120.0)])
+    for detections in (None, None, [], None, [(100.0, 50.0, 40.0, 120.0)]):
+        tracker.step(frame, detections=detections)
+    assert (tracker.previous_detector_frame, tracker.detector_frame) == (3, 5)
 
 
 def test_a_waiting_dancer_emerging_on_its_upper_body_keeps_its_height():

@@ -1,7 +1,7 @@
-"""Hindsight once a whole video is tracked: occluded stretches filled, boxes widened to their keypoints, and boxes
-smoothed over time.
+"""Hindsight once a whole video is tracked: occluded stretches filled, boxes widened to their keypoints (and
+lowered where they reach far above a full pose), and boxes smoothed over time.
 
-Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so three offline steps can use the
+Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so four offline steps can use the
 frames after each one, as offline multi-object trackers do (ByteTrack's and StrongSORT's linear interpolation of the
 missing frames of a track, StrongSORT's smoothing of the boxes):
 
@@ -35,6 +35,15 @@ grow, and only sideways: a dancer's height is what the tracker and the detector 
 keypoints too added identity switches (936 hdvr synth clips: clips below IDF1 0.9 or with a switch 63 -> 54, mean
 0.9784 -> 0.9801; docs/benchmarks.md "session 32").
 
+:func:`trim_above_pose`: a box of a dancer seen whose pose shows nearly all of COCO-17's joints, all inside the box,
+is lowered where its top reaches more than ``reach`` x its height above the pose's highest keypoint (the head's
+top above the face keypoints, or the fingers above a raised wrist), keeping its bottom. A box's size follows its
+detections times the ratio of the start box to the first detection on the dancer; when that detection left the
+legs out, the box stays that much too tall all along (hdvr synth seed 309 hip-hop trio: a box 1.3 x the dancer's
+height, lowered on 101 frames by a median 0.09 of it, to 1.18 x; frames missed 21 -> 4, IDF1 0.936 -> 0.981; seed 302
+flamenco, a box 1.2 x the dancer's height: its 2 identity switches go). 936 hdvr synth clips: mean IDF1 0.9801 ->
+0.9805, switches 19 -> 17, HOTA 0.7791 -> 0.7810 (52 clips up, 6 down; docs/benchmarks.md "session 33").
+
 :func:`smooth_boxes`: the box centre and size of each run of frames with a box (``tracked`` or ``occluded``) are
 averaged over a centred window of ``window`` frames: the tracker and the detector each move a box by a few pixels
 from frame to frame where the dancer moves smoothly (936 hdvr synth clips, after the filling: clips below IDF1 0.9
@@ -63,8 +72,21 @@ KEYPOINT_REACH = 0.06
 MIN_KEYPOINT_CONFIDENCE = 0.3
 #: keypoints of that confidence a dancer needs in a frame for its box to be widened to them
 MIN_KEYPOINTS = 5
+#: of the 17 COCO-17 joints, how many a pose must show (confidence ``MIN_KEYPOINT_CONFIDENCE``) to lower a box's top
+MIN_FULL_POSE = 15
 #: how far (in box heights) above or below its box a keypoint may lie for the pose to count as the dancer's
 POSE_HEIGHT_MARGIN = 0.1
+#: how far a dancer reaches above its highest keypoint (the top of the head above the face keypoints, the fingers
+#: above a wrist), in box heights (:func:`trim_above_pose`). On 10,000 frames of fully seen dancers of hdvr synth clips
+#: the ground truth reaches above YOLO11n-pose's highest keypoint by 0.07 of its height (median), 0.11 (95th
+#: percentile), 0.13 (99th); 0.10, 0.12 and 0.13 were tried (docs/benchmarks.md "session 33")
+HEAD_REACH = 0.12
+#: BODY_25 indices of the 17 joints of COCO-17 (face, arms, hips, knees, ankles), those every pose detector gives: a
+#: pose that shows nearly all of them (:func:`trim_above_pose`) shows the dancer's highest point
+_FULL_POSE = [BODY25_NAMES.index(name) for name in (
+    "nose", "right_eye", "left_eye", "right_ear", "left_ear", "right_shoulder", "left_shoulder", "right_elbow",
+    "left_elbow", "right_wrist", "left_wrist", "right_hip", "left_hip", "right_knee", "left_knee", "right_ankle",
+    "left_ankle")]
 #: BODY_25 indices of the torso keypoints, whose mean must lie between a box's sides for its pose to widen it
 _TORSO = [BODY25_NAMES.index(name) for name in ("neck", "right_shoulder", "left_shoulder", "mid_hip", "right_hip",
                                                  "left_hip")]
@@ -170,6 +192,41 @@ def enclose_keypoints(boxes: np.ndarray, status, keypoints: np.ndarray, reach: f
     out[..., 0] = np.where(widened, new_left, left)
     out[..., 2] = np.where(widened, new_right - new_left, width)
     return out, widened
+
+
+def trim_above_pose(boxes: np.ndarray, status, keypoints: np.ndarray, reach: float = HEAD_REACH,
+                    min_confidence: float = MIN_KEYPOINT_CONFIDENCE,
+                    min_joints: int = MIN_FULL_POSE) -> tuple[np.ndarray, np.ndarray]:
+    """``boxes`` (T, N, 4) px whose top lies more than ``reach`` x the box height above the highest of the dancer's
+    BODY_25 ``keypoints`` (T, N, 25, 3: x px, y px, confidence; NaN where missing) lowered to that, keeping the
+    bottom (module docstring), in frames where the dancer is ``tracked``, shows at least ``min_joints`` of the 17
+    COCO-17 joints with confidence ``min_confidence`` or more (so that its highest keypoint is its face or a raised
+    hand) and all of these lie between the box's sides (the pose is the dancer's; run after
+    :func:`enclose_keypoints`). Never below half the box's height. Returns the new boxes and a (T, N) bool mask of
+    the boxes lowered. The input is not changed."""
+    boxes, status = _checked(boxes, status, min_joints=min_joints)
+    keypoints = np.asarray(keypoints, float)
+    if keypoints.shape != boxes.shape[:2] + (len(BODY25_NAMES), 3):
+        raise ValueError(f"keypoints must be (T, N, 25, 3) BODY_25 for boxes {boxes.shape}, got {keypoints.shape}")
+    if reach < 0:
+        raise ValueError(f"reach must be >= 0, got {reach}")
+    joints = keypoints[:, :, _FULL_POSE]
+    confident = (joints[..., 2] >= min_confidence) & np.isfinite(joints[..., :2]).all(axis=-1)
+    left, top, width, height = np.moveaxis(boxes, -1, 0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows (no keypoint): those are not used anyway
+        highest = np.nanmin(np.where(confident, joints[..., 1], np.nan), axis=-1)
+        leftmost = np.nanmin(np.where(confident, joints[..., 0], np.nan), axis=-1)
+        rightmost = np.nanmax(np.where(confident, joints[..., 0], np.nan), axis=-1)
+    new_top = highest - reach * height
+    bottom = top + height
+    with np.errstate(invalid="ignore"):  # NaN boxes and keypoints compare False: not lowered
+        lowered = (status == TRACKED) & (confident.sum(axis=-1) >= min_joints) & (leftmost >= left) \
+            & (rightmost <= left + width) & (new_top > top) & (bottom - new_top >= 0.5 * height)
+    out = boxes.copy()
+    out[..., 1] = np.where(lowered, new_top, top)
+    out[..., 3] = np.where(lowered, bottom - new_top, height)
+    return out, lowered
 
 
 def smooth_boxes(boxes: np.ndarray, status, window: int = SMOOTH_WINDOW) -> np.ndarray:

@@ -158,12 +158,12 @@ class MultiTrackerConfig:
     # overlaps other dancers' cores by less than ``emerge_beside_overlap`` (a dancer half beside the one in front),
     # when its colours match each of those dancers' memories less than ``emerge_beside_similarity`` and a detection
     # passing the same tests lay on it (IoU >= 0.5) on each of the N - 1 detector frames before (a person that
-    # stays there, not a limb or a floor shape seen once; 0: off). 219 hdvr synth clips with a hidden start: 8 up,
-    # none down (seed 1302 flamenco 0.861 -> 0.889, 802 ballet loses its switch); fresh seeds 2101-2312 unchanged.
-    # Without the persistence (session 31) fresh clips gained 4 switches; with 2 frames 9 up, 2 down
+    # stays there, not a limb or a floor shape seen once; 0: off). Detector frames, whatever ``--detect-every``: a
+    # detector frame without such a detection starts the count again. 219 hdvr synth clips with a hidden start: 8
+    # up, none down (seed 1302 flamenco 0.861 -> 0.889, 802 ballet loses its switch); fresh seeds 2101-2312
+    # unchanged. Without the persistence (session 31) fresh clips gained 4 switches; with 2 frames 9 up, 2 down
     emerge_beside_overlap: float = 0.5
     emerge_beside_similarity: float = 0.3
-    emerge_beside_gap: int = 6  # frames: a detector frame further back than this does not count as the one before
     emerge_distance: float = 1.0  # x the box height: how far from the dancer's box centre that detection may be
     emerge_max_aspect: float = 2.0  # ... and its width / height at most this factor of the dancer's box's: a wider
     # one is a part of a dancer that YOLO drew as a person, e.g. the spread arm of the dancer in front (seed 1308
@@ -345,6 +345,8 @@ class MultiDancerTracker(ReportedExtent):
         self.config = config or MultiTrackerConfig()
         self.frame_size = (frame.shape[1], frame.shape[0])
         self.frame_index = 0
+        # the latest frame with detections (sure, weak or none found) and the one before it (-1: none yet)
+        self.detector_frame, self.previous_detector_frame = -1, -1
         self.dancers: list[DancerTrack] = []
         self._foreground_cache = None  # :meth:`_foreground`
         for b in boxes:
@@ -533,6 +535,8 @@ class MultiDancerTracker(ReportedExtent):
         weak = list(weak_detections) if detections is not None and weak_detections and c.weak_detections else []
         self.frame_index += 1
         t = self.frame_index
+        if detections is not None:
+            self._count_detector_frame()
         prev_boxes = [d.box for d in self.dancers]
         # 1. move tracked dancers; learn only those that were clear of the others
         for i, d in enumerate(self.dancers):
@@ -642,6 +646,13 @@ class MultiDancerTracker(ReportedExtent):
                 d.growth = np.zeros(4)
             d.last_status = d.status
         return self.result()
+
+    def _count_detector_frame(self) -> None:
+        """The detector ran on this frame (``detections`` given to :meth:`step`, found or not): it becomes
+        ``detector_frame``, and the one before ``previous_detector_frame``. Rules that need a detection on several
+        detector frames in a row count these, not frames, so that they mean the same at any ``--detect-every``."""
+        if self.detector_frame != self.frame_index:
+            self.previous_detector_frame, self.detector_frame = self.detector_frame, self.frame_index
 
     def _occlude(self, d: DancerTrack, front: list[DancerTrack]) -> None:
         """Dancer ``d`` is hidden behind the dancers ``front`` from this frame on: its box is predicted from its
@@ -1342,10 +1353,11 @@ class MultiDancerTracker(ReportedExtent):
         colours from it, replacing those of the dancer in front: it no longer waits. With ``emerge_beside_persist``
         N, a detection whose body core overlaps other dancers' less than ``emerge_beside_overlap`` counts too, when
         its colours match each of their memories less than ``emerge_beside_similarity`` and such a detection lay on it
-        on the N - 1 detector frames before (``DancerTrack.beside_now`` / ``beside_before``). ``front_histograms``: a
-        dict of the colour histograms of the front dancers' boxes, by (dancer id, box), shared by the calls of a
-        frame."""
+        on each of the N - 1 detector frames before (``DancerTrack.beside_now`` / ``beside_before``; detector frames
+        as :meth:`_count_detector_frame` counts them). ``front_histograms``: a dict of the colour histograms of the
+        front dancers' boxes, by (dancer id, box), shared by the calls of a frame."""
         c = self.config
+        self._count_detector_frame()  # called on detector frames only (also when called alone, as in tests)
         front_histograms = {} if front_histograms is None else front_histograms
         waiting = self.waiting()
         if not waiting:
@@ -1368,8 +1380,8 @@ class MultiDancerTracker(ReportedExtent):
                                        - c.reid_margin)
             best, best_distance = None, c.emerge_distance * d.box[3]
             if c.emerge_beside_persist and d.beside_frame != self.frame_index:  # a new detector frame
-                recent = self.frame_index - d.beside_frame <= c.emerge_beside_gap
-                d.beside_before = d.beside_now if recent else []
+                # what lay beside it counts only if it was seen on the detector frame just before this one
+                d.beside_before = d.beside_now if d.beside_frame == self.previous_detector_frame else []
                 d.beside_now, d.beside_frame = [], self.frame_index
             for k, det in enumerate(dets):
                 if k in taken or not _height_within(det, d.box, c.max_height_change) \
