@@ -6,8 +6,9 @@ amodal ground-truth box thin, its tracked box thick in the same colour, with the
 person boxes of that frame in white. Writes one JPEG per (seed, clip, frame) into docs/img, for the cases of
 ``BEFORE_AFTER`` one picture with the frame tracked without a rule (left) and with it (right), and for those of
 ``HINDSIGHT`` one with the online tracker's boxes (left) and the boxes written, occluded stretches filled with
-hindsight (right), and for those of ``KEYPOINT_REACH`` one with the boxes filled and smoothed (left) and widened to
-the dancers' keypoints before the smoothing, as written (right).
+hindsight (right), for those of ``KEYPOINT_REACH`` one with the boxes filled and smoothed (left) and widened to
+the dancers' keypoints before the smoothing (right), and for those of ``HEAD_REACH`` one with the boxes widened
+(left) and lowered to a full pose's head, as written (right).
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -42,6 +43,10 @@ HINDSIGHT = (
 #: (seed, clip index, genre, dancers, frame, picture name): a frame where a box is widened to its dancer's keypoints
 KEYPOINT_REACH = (
     (701, 5, "ballet", 4, 93, "tracking_keypoint_reach_s701_ballet_093.jpg"),
+)
+#: (seed, clip index, genre, dancers, frame, picture name): a frame where a box is lowered to its dancer's head
+HEAD_REACH = (
+    (309, 2, "hip_hop", 3, 96, "tracking_head_reach_s309_hip_hop_096.jpg"),
 )
 COLOURS = [(0, 0, 255), (0, 190, 0), (255, 60, 0), (0, 200, 220)]  # BGR
 
@@ -116,10 +121,11 @@ def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, 
     return gt, tracked, video
 
 
-def _widening_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int):
-    """Render and track clip ``index`` of ``seed`` once; returns (gt, [boxes filled and smoothed, boxes filled,
-    widened to the keypoints and smoothed (as written)], path of the video), dancers in the clip's order."""
-    from hdvr.tracking.hindsight import enclose_keypoints, fill_occluded, smooth_boxes
+def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int):
+    """Render and track clip ``index`` of ``seed`` once; returns (gt, [boxes filled and smoothed, filled, widened to
+    the keypoints and smoothed, filled, widened, lowered to a full pose's head and smoothed (as written)], path of the
+    video), dancers in the clip's order."""
+    from hdvr.tracking.hindsight import enclose_keypoints, fill_occluded, smooth_boxes, trim_above_pose
     from hdvr.tracking.pipeline import track_video
 
     gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
@@ -127,8 +133,9 @@ def _widening_case(tmp: Path, detector, seed: int, index: int, genre: str, n: in
                       write=False, hindsight=False)
     filled, _ = fill_occluded(run.boxes, run.status)
     widened, _ = enclose_keypoints(filled, run.status, run.keypoints, frame_width=run.size[0])
-    both = [smooth_boxes(filled, run.status), smooth_boxes(widened, run.status)]
-    return gt, [b[:, np.argsort(order)] for b in both], video
+    lowered, _ = trim_above_pose(widened, run.status, run.keypoints)
+    steps = [smooth_boxes(b, run.status) for b in (filled, widened, lowered)]
+    return gt, [b[:, np.argsort(order)] for b in steps], video
 
 
 def _frame_and_detections(video: Path, detector, frame_index: int):
@@ -179,9 +186,9 @@ def _write_two_runs(path: Path, video: Path, detector, frame_index: int, gt: np.
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
-    parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints"), default=None,
-                        help="write only the limit pictures, the before/after ones, the hindsight ones or the ones "
-                             "of boxes widened to the keypoints")
+    parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head"), default=None,
+                        help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
+                             "of boxes widened to the keypoints or the ones of boxes lowered to a full pose's head")
     args = parser.parse_args(argv)
 
     from dataclasses import replace
@@ -215,11 +222,18 @@ def main(argv=None) -> int:
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with hindsight",
                   file=sys.stderr)
         for seed, index, genre, n, frame_index, name in KEYPOINT_REACH if args.only in (None, "keypoints") else ():
-            gt, tracked, video = _widening_case(tmp, detector, seed, index, genre, n)
+            gt, tracked, video = _hindsight_steps_case(tmp, detector, seed, index, genre, n)
             path = args.out / name
-            _write_two_runs(path, video, detector, frame_index, gt, tracked,
-                            ("filled and smoothed", "widened to the keypoints too (as written)"))
+            _write_two_runs(path, video, detector, frame_index, gt, tracked[:2],
+                            ("filled and smoothed", "widened to the keypoints too"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the widening",
+                  file=sys.stderr)
+        for seed, index, genre, n, frame_index, name in HEAD_REACH if args.only in (None, "head") else ():
+            gt, tracked, video = _hindsight_steps_case(tmp, detector, seed, index, genre, n)
+            path = args.out / name
+            _write_two_runs(path, video, detector, frame_index, gt, tracked[1:],
+                            ("widened to the keypoints", "lowered to the head's reach too (as written)"))
+            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the lowering",
                   file=sys.stderr)
     return 0
 
