@@ -208,8 +208,8 @@ class MultiTrackerConfig:
     max_height_ratio: float = 1.3  # ... and at most this much taller or shorter: a first detection that leaves the
     # legs out would keep the box that much too tall all along (the box follows its detections times this ratio).
     # The ground truth's height over YOLO11n-pose's for dancers seen whole: median 1.09, 99th percentile 1.26. hdvr
-    # synth: the 92 clips where a start detection's height ratio lay beyond 1.3: 10 up, none down (1506 hip-hop
-    # 0.890 -> 0.904, 310 flamenco 0.950 -> 1.000); fresh seeds 2501-2512: 2 up, none down
+    # synth, 936 clips: 16 up, 2 down, failing 52 -> 51 (1506 hip-hop 0.890 -> 0.904, 310 flamenco 0.950 -> 1.000;
+    # 711 ballet 0.967 -> 0.929); fresh seeds 2501-2512: 2 up, none down
     start_ratio_alone: bool = True  # the initial box's ratio to the detector's is learned at the start only for a
     # dancer whose body core overlaps no other dancer's then (in a stack the detection on it may be the other's);
     # otherwise from its first detection while clear
