@@ -204,7 +204,7 @@ class MultiTrackerConfig:
     box_adaptation: float = 0.3  # per confirming detection, weight of the detected box in a clear dancer's box
     max_box_offset: float = 0.25  # box centre at most this x its size from the tracker's centre
     max_person_width: float = 2.0  # a detection wider than this x a dancer's box height is not that dancer alone
-    max_size_ratio: float = 1.4  # the initial box is at most this much larger or smaller than the detector's
+    max_size_ratio: float = 1.4  # the initial box is at most this much wider or narrower than the detector's
     max_height_ratio: float = 1.3  # ... and at most this much taller or shorter: a first detection that leaves the
     # legs out would keep the box that much too tall all along (the box follows its detections times this ratio).
     # The ground truth's height over YOLO11n-pose's for dancers seen whole: median 1.09, 99th percentile 1.26. hdvr
