@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, enclose_keypoints, fill_occluded, interpolate_boxes,
-                                     occluded_stretches, smooth_boxes, trim_above_pose)
+                                     hold_last_seen, occluded_stretches, smooth_boxes, trim_above_pose)
 
 
 def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
@@ -276,3 +276,37 @@ def test_trimming_keeps_at_least_half_the_box_and_refuses_wrong_settings():
         trim_above_pose(boxes, status, np.zeros((5, 1, 25, 3)), reach=-0.1)
     with pytest.raises(ValueError, match="min_joints"):
         trim_above_pose(boxes, status, np.zeros((5, 1, 25, 3)), min_joints=0)
+
+
+def test_a_stretch_not_seen_after_holds_the_box_where_the_dancer_was_last_seen():
+    """Hidden to the end of the video: the online prediction runs on with the velocity the dancer had when it went
+    behind the others; with hindsight the box stays where it was last seen. A stretch filled between two sightings
+    keeps its filled boxes, and a frame predicted out of the frame (no box) stays without one."""
+    boxes = _walk(12)
+    status = _status(12, occluded=range(6, 12))
+    _, filled = fill_occluded(boxes, status)
+    assert not filled.any()  # nothing seen after: nothing filled
+    boxes[11, 0] = np.nan  # predicted out of the frame on the last one
+    out, held = hold_last_seen(boxes, status, filled)
+    np.testing.assert_array_equal(out[6:11, 0], np.tile(boxes[5, 0], (5, 1)))
+    assert np.isnan(out[11, 0]).all()
+    np.testing.assert_array_equal(held[:, 0], [False] * 6 + [True] * 5 + [False])
+    np.testing.assert_array_equal(out[:6], boxes[:6])
+    both = _status(12, occluded=range(3, 6))
+    refilled, mask = fill_occluded(_walk(12), both)
+    out, held = hold_last_seen(refilled, both, mask)  # seen again after: filled, not held
+    np.testing.assert_array_equal(out, refilled)
+    assert not held.any()
+
+
+def test_only_a_stretch_right_after_a_sighting_is_held():
+    """A stretch at the very start, or after the dancer was out of the frame or waiting hidden since its start, has
+    no box of the dancer seen to hold."""
+    boxes = _walk(8)
+    for status in (_status(8, occluded=range(0, 4)), [("out",)] * 2 + [("occluded",)] * 6,
+                   [("hidden",)] * 3 + [("occluded",)] * 5):
+        out, held = hold_last_seen(boxes, status, np.zeros((8, 1), bool))
+        np.testing.assert_array_equal(out, boxes)
+        assert not held.any()
+    with pytest.raises(ValueError, match="filled"):
+        hold_last_seen(boxes, _status(8), np.zeros((8, 2), bool))

@@ -43,7 +43,8 @@ def register(subparsers) -> None:
                         "(faster on such clips; see docs/tracking.md)")
     p.add_argument("--no-hindsight", action="store_true",
                    help="write the online tracker's boxes: no filling of the stretches in which a dancer was "
-                        "hidden between where it was seen before and after, no fitting of boxes to the keypoints "
+                        "hidden between where it was seen before and after (nor holding where it was last seen when "
+                        "it was not seen again), no fitting of boxes to the keypoints "
                         "chosen for them (widened to them, lowered to a full pose's head), no smoothing over time "
                         "(see docs/tracking.md)")
     p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")

@@ -1,7 +1,7 @@
-"""Hindsight once a whole video is tracked: occluded stretches filled, boxes widened to their keypoints (and
-lowered where they reach far above a full pose), and boxes smoothed over time.
+"""Hindsight once a whole video is tracked: occluded stretches filled (or held where the dancer was last seen),
+boxes widened to their keypoints (and lowered where they reach far above a full pose), and boxes smoothed over time.
 
-Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so four offline steps can use the
+Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so five offline steps can use the
 frames after each one, as offline multi-object trackers do (ByteTrack's and StrongSORT's linear interpolation of the
 missing frames of a track, StrongSORT's smoothing of the boxes):
 
@@ -19,6 +19,13 @@ the frame), one after an exit from the frame, and a dancer that waits hidden beh
 (status ``hidden``): where such a dancer goes while it has never been seen is better guessed by the dancer in
 front, where its box stays, than by a straight line from its start box (measured on 936 hdvr synth clips:
 filling those stretches too lowered the mean IDF1 of the clips with a hidden start from 0.9451 to 0.9446).
+
+:func:`hold_last_seen`: a stretch that :func:`fill_occluded` leaves unfilled because nothing trusted was seen after
+it (the dancer stays hidden to the end of the video, or is lost again at once) keeps the box of the frame the dancer
+was last seen, instead of the online prediction, which starts from its last box clear of the others (frames
+earlier, while it still moved freely) and runs on with the velocity it had then: a dancer that stays hidden behind
+others has mostly stopped there (it would show again had it moved on) (936 hdvr synth clips: clips below IDF1 0.9 or with a switch 51 -> 45, mean 0.9807 -> 0.9814; hdvr synth seed
+712 hip-hop quartet 0.840 -> 0.983; docs/benchmarks.md "session 33").
 
 :func:`enclose_keypoints`: each box of a dancer seen (``tracked``) is widened, left and right, to enclose the
 keypoints written for it (those of the pose Algorithm 2* chose, interpolated between detector frames), plus
@@ -152,6 +159,29 @@ def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTE
             out[first:after, i] = interpolate_boxes(ends[0], ends[1], after - first)
             filled[first:after, i] = True
     return out, filled
+
+
+def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Hold the box where each dancer was last seen through each ``occluded`` stretch that starts right after a frame
+    it was seen (``tracked``) and that :func:`fill_occluded` did not fill (``filled``, its (T, N) mask); module
+    docstring. ``boxes`` (T, N, 4) px, NaN where absent or out (those frames stay so). Returns the new boxes and a
+    (T, N) bool mask of the frames held. The input is not changed."""
+    boxes, status = _checked(boxes, status)
+    filled = np.asarray(filled, bool)
+    if filled.shape != boxes.shape[:2]:
+        raise ValueError(f"filled must be (T, N) for boxes {boxes.shape}, got {filled.shape}")
+    out = boxes.copy()
+    held = np.zeros(boxes.shape[:2], bool)
+    for i in range(boxes.shape[1]):
+        for first, last in occluded_stretches(status[:, i]):
+            seen = boxes[first - 1, i] if first > 0 else None
+            if seen is None or status[first - 1, i] != TRACKED or filled[first, i] or not np.isfinite(seen).all():
+                continue
+            stretch = np.arange(first, last + 1)
+            stretch = stretch[np.isfinite(boxes[stretch, i]).all(axis=1)]
+            out[stretch, i] = seen
+            held[stretch, i] = True
+    return out, held
 
 
 def enclose_keypoints(boxes: np.ndarray, status, keypoints: np.ndarray, reach: float = KEYPOINT_REACH,

@@ -8,11 +8,11 @@ Outputs in ``out_dir``:
 - ``overlay.mp4``: H.264 video with boxes, ids and skeletons (unless disabled).
 
 Frames are decoded and tracked one at a time; only small per-frame arrays (boxes and keypoints) are kept. Once
-all frames are tracked, the stretches in which a dancer was hidden behind others are filled with hindsight, the
-boxes widened to the keypoints chosen for their dancers (and lowered to a full pose's head where they reach far
-above it) and smoothed over time (:mod:`hdvr.tracking.hindsight`), and the overlay is drawn in a second pass over
-the video with the final boxes. If decoding or anything else stops the run early, the outputs for the frames done
-so far are written before the error is raised.
+all frames are tracked, the stretches in which a dancer was hidden behind others are filled with hindsight (or held
+where it was last seen when it was not seen again), the boxes widened to the keypoints chosen for their dancers (and
+lowered to a full pose's head where they reach far above it) and smoothed over time (:mod:`hdvr.tracking.hindsight`),
+and the overlay is drawn in a second pass over the video with the final boxes. If decoding or anything else stops
+the run early, the outputs for the frames done so far are written before the error is raised.
 """
 
 from __future__ import annotations
@@ -35,8 +35,8 @@ from hdvr.pose2d.selection import PoseSelector
 from hdvr.progress import progress
 from hdvr.tracking.appearance import box_iou, box_overlap
 from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
-from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, SMOOTH_WINDOW, enclose_keypoints, fill_occluded, smooth_boxes,
-                                     trim_above_pose)
+from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, SMOOTH_WINDOW, enclose_keypoints, fill_occluded,
+                                     hold_last_seen, smooth_boxes, trim_above_pose)
 from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.state import HIDDEN, body_core
 from hdvr.video import VideoReader, VideoWriter
@@ -210,7 +210,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     come out, the detector also runs on a crop about its box (:func:`zoom_detections`; not for detectors with
     ``supports_crops`` False, such as precomputed OpenPose output). ``hindsight``: once all frames are tracked,
     fill the boxes of each stretch in which a dancer was occluded between where it was seen before and after
-    (:func:`hdvr.tracking.hindsight.fill_occluded`), widen each box to enclose its dancer's keypoints
+    (:func:`hdvr.tracking.hindsight.fill_occluded`; a stretch not seen after it holds the box where the dancer was
+    last seen, :func:`hdvr.tracking.hindsight.hold_last_seen`), widen each box to enclose its dancer's keypoints
     (:func:`hdvr.tracking.hindsight.enclose_keypoints`), lower the top of a box that reaches far above a full pose
     (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
     (:func:`hdvr.tracking.hindsight.smooth_boxes`); off, the boxes are those of the online tracker.
@@ -343,6 +344,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     run.filled = np.zeros(run.boxes.shape[:2], bool)
     if hindsight:
         run.boxes, run.filled = fill_occluded(run.boxes, run.status, MIN_SEEN_AFTER)
+        run.boxes = hold_last_seen(run.boxes, run.status, run.filled)[0]
         run.boxes = enclose_keypoints(run.boxes, run.status, run.keypoints, frame_width=info.size[0])[0]
         run.boxes = trim_above_pose(run.boxes, run.status, run.keypoints)[0]
         run.boxes = smooth_boxes(run.boxes, run.status, SMOOTH_WINDOW)
