@@ -48,6 +48,12 @@ KEYPOINT_REACH = (
 HEAD_REACH = (
     (309, 2, "hip_hop", 3, 96, "tracking_head_reach_s309_hip_hop_096.jpg"),
 )
+#: (--only value, cases, the two of :func:`_hindsight_steps_case`'s boxes drawn, their titles, the step shown)
+STEP_PICTURES = (
+    ("keypoints", KEYPOINT_REACH, slice(0, 2), ("filled and smoothed", "widened to the keypoints too"), "widening"),
+    ("head", HEAD_REACH, slice(1, 3), ("widened to the keypoints", "lowered to the head's reach too (as written)"),
+     "lowering"),
+)
 COLOURS = [(0, 0, 255), (0, 190, 0), (255, 60, 0), (0, 200, 220)]  # BGR
 
 
@@ -122,19 +128,20 @@ def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, 
 
 
 def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int):
-    """Render and track clip ``index`` of ``seed`` once; returns (gt, [boxes filled and smoothed, filled, widened to
-    the keypoints and smoothed, filled, widened, lowered to a full pose's head and smoothed (as written)], path of the
-    video), dancers in the clip's order."""
-    from hdvr.tracking.hindsight import enclose_keypoints, fill_occluded, smooth_boxes, trim_above_pose
+    """Render and track clip ``index`` of ``seed`` once; returns (gt, [boxes filled (or held) and smoothed, also
+    widened to the keypoints, as written (:func:`hdvr.tracking.hindsight.apply_hindsight`: also lowered to a full
+    pose's head)], path of the video), dancers in the clip's order."""
+    from hdvr.tracking.hindsight import apply_hindsight, enclose_keypoints, fill_occluded, hold_last_seen, smooth_boxes
     from hdvr.tracking.pipeline import track_video
 
     gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
     run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
                       write=False, hindsight=False)
-    filled, _ = fill_occluded(run.boxes, run.status)
+    filled, mask = fill_occluded(run.boxes, run.status)
+    filled, _ = hold_last_seen(filled, run.status, mask)
     widened, _ = enclose_keypoints(filled, run.status, run.keypoints, frame_width=run.size[0])
-    lowered, _ = trim_above_pose(widened, run.status, run.keypoints)
-    steps = [smooth_boxes(b, run.status) for b in (filled, widened, lowered)]
+    written, _ = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0])
+    steps = [smooth_boxes(filled, run.status), smooth_boxes(widened, run.status), written]
     return gt, [b[:, np.argsort(order)] for b in steps], video
 
 
@@ -221,20 +228,13 @@ def main(argv=None) -> int:
                             ("online (--no-hindsight)", "with hindsight (as written)"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with hindsight",
                   file=sys.stderr)
-        for seed, index, genre, n, frame_index, name in KEYPOINT_REACH if args.only in (None, "keypoints") else ():
-            gt, tracked, video = _hindsight_steps_case(tmp, detector, seed, index, genre, n)
-            path = args.out / name
-            _write_two_runs(path, video, detector, frame_index, gt, tracked[:2],
-                            ("filled and smoothed", "widened to the keypoints too"))
-            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the widening",
-                  file=sys.stderr)
-        for seed, index, genre, n, frame_index, name in HEAD_REACH if args.only in (None, "head") else ():
-            gt, tracked, video = _hindsight_steps_case(tmp, detector, seed, index, genre, n)
-            path = args.out / name
-            _write_two_runs(path, video, detector, frame_index, gt, tracked[1:],
-                            ("widened to the keypoints", "lowered to the head's reach too (as written)"))
-            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the lowering",
-                  file=sys.stderr)
+        for only, cases, panels, titles, step in STEP_PICTURES:
+            for seed, index, genre, n, frame_index, name in cases if args.only in (None, only) else ():
+                gt, tracked, video = _hindsight_steps_case(tmp, detector, seed, index, genre, n)
+                path = args.out / name
+                _write_two_runs(path, video, detector, frame_index, gt, tracked[panels], titles)
+                print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the {step}",
+                      file=sys.stderr)
     return 0
 
 

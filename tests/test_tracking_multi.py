@@ -927,6 +927,7 @@ def test_a_waiting_dancer_comes_out_half_beside_the_dancer_in_front_once_seen_th
         assert 0.05 < tracker._bodies_overlap(person, front.box) < 0.5
         for t in frames:
             tracker.frame_index = t
+            tracker._count_detector_frame()  # as step does on a frame with detections
             tracker._emerge(later, [front_box, person] if t in shown else [front_box])
             assert (waiting.hidden_behind is None) == (emerged_at is not None and t >= emerged_at), (persist, t)
         if emerged_at is not None:

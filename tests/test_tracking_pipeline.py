@@ -343,11 +343,12 @@ def _sees_what_is_clear(truth):
 
 def test_an_occluded_stretch_gets_boxes_filled_with_hindsight(tmp_path):
     """A figure walks behind a still one and out on the other side. Its occluded frames are filled between its box
-    on the last frame it was seen and on the first frame it was seen again, widened to the keypoints chosen for it
-    and smoothed over time (the box stays on it: IoU >= 0.6); tracks.json lists the frames filled and the MOT file
-    holds the boxes written, and the overlay is drawn with them."""
+    on the last frame it was seen and on the first frame it was seen again, then the boxes are fitted to the keypoints
+    chosen for them and smoothed over time: the online boxes put through ``apply_hindsight`` (the box stays on it:
+    IoU >= 0.6); tracks.json lists the frames filled and the MOT file holds the boxes written, and the overlay is
+    drawn with them."""
     from hdvr.tracking.evaluation import iou_matrix
-    from hdvr.tracking.hindsight import enclose_keypoints, fill_occluded, smooth_boxes
+    from hdvr.tracking.hindsight import apply_hindsight
     from hdvr.tracking.pipeline import track_video
 
     path = tmp_path / "cross.mp4"
@@ -363,9 +364,9 @@ def test_an_occluded_stretch_gets_boxes_filled_with_hindsight(tmp_path):
     assert len(occluded) >= 10 and occluded == list(range(first, last + 1)) and status[last + 1] == "tracked"
     assert np.flatnonzero(runs[True].filled[:, 1]).tolist() == occluded and not runs[True].filled[:, 0].any()
     online, written = runs[False].boxes, runs[True].boxes
-    filled, _ = fill_occluded(online, runs[False].status)
-    widened, _ = enclose_keypoints(filled, runs[False].status, runs[False].keypoints, frame_width=640)
-    np.testing.assert_allclose(written, smooth_boxes(widened, runs[False].status))
+    expected, filled = apply_hindsight(online, runs[False].status, runs[False].keypoints, frame_width=640)
+    np.testing.assert_allclose(written, expected)
+    np.testing.assert_array_equal(filled, runs[True].filled)
     assert min(iou_matrix(truth.boxes[t, 1][None], written[t, 1][None])[0, 0] for t in occluded) >= 0.6
     doc = json.loads((tmp_path / "outTrue" / "tracks.json").read_text())
     assert doc["filled_with_hindsight"] == [[], occluded]
@@ -394,8 +395,6 @@ def test_a_dancer_waiting_hidden_since_its_start_is_reported_hidden_and_not_fill
     assert hidden == list(range(len(hidden))) and len(hidden) >= 5 and set(status[len(hidden):]) == {"tracked"}
     assert not run.filled.any()
     assert tracked_fraction(run)[1] == pytest.approx(1 - len(hidden) / 50)
-
-
 
 
 def test_the_box_written_reaches_a_spread_arm_that_the_pose_shows(tmp_path):

@@ -24,8 +24,9 @@ filling those stretches too lowered the mean IDF1 of the clips with a hidden sta
 it (the dancer stays hidden to the end of the video, or is lost again at once) keeps the box of the frame the dancer
 was last seen, instead of the online prediction, which starts from its last box clear of the others (frames
 earlier, while it still moved freely) and runs on with the velocity it had then: a dancer that stays hidden behind
-others has mostly stopped there (it would show again had it moved on) (936 hdvr synth clips: clips below IDF1 0.9 or with a switch 51 -> 45, mean 0.9807 -> 0.9814; hdvr synth seed
-712 hip-hop quartet 0.840 -> 0.983; docs/benchmarks.md "session 33").
+others has mostly stopped there (it would show again had it moved on). 936 hdvr synth clips: clips below IDF1 0.9
+or with a switch 51 -> 45, mean 0.9807 -> 0.9814; hdvr synth seed 712 hip-hop quartet 0.840 -> 0.983
+(docs/benchmarks.md "session 33").
 
 :func:`enclose_keypoints`: each box of a dancer seen (``tracked``) is widened, left and right, to enclose the
 keypoints written for it (those of the pose Algorithm 2* chose, interpolated between detector frames), plus
@@ -125,6 +126,14 @@ def _checked(boxes, status, **counts) -> tuple[np.ndarray, np.ndarray]:
     return boxes, np.asarray([tuple(s) for s in status], dtype=object).reshape(boxes.shape[:2])
 
 
+def _checked_keypoints(keypoints, boxes: np.ndarray) -> np.ndarray:
+    """``keypoints`` as a (T, N, 25, 3) BODY_25 float array for (T, N, 4) ``boxes``; ValueError for other shapes."""
+    keypoints = np.asarray(keypoints, float)
+    if keypoints.shape != boxes.shape[:2] + (len(BODY25_NAMES), 3):
+        raise ValueError(f"keypoints must be (T, N, 25, 3) BODY_25 for boxes {boxes.shape}, got {keypoints.shape}")
+    return keypoints
+
+
 def interpolate_boxes(start, end, steps: int) -> np.ndarray:
     """(steps, 4) boxes strictly between (x, y, w, h) px boxes ``start`` and ``end``, evenly spaced in time:
     centre and size are interpolated linearly (so a box that grows does not also drift)."""
@@ -195,9 +204,7 @@ def enclose_keypoints(boxes: np.ndarray, status, keypoints: np.ndarray, reach: f
     give or take ``height_margin`` x that height. No wider than the frame, given its width in px. Returns the new
     boxes and a (T, N) bool mask of the boxes widened. The input is not changed."""
     boxes, status = _checked(boxes, status, min_keypoints=min_keypoints)
-    keypoints = np.asarray(keypoints, float)
-    if keypoints.shape != boxes.shape[:2] + (len(BODY25_NAMES), 3):
-        raise ValueError(f"keypoints must be (T, N, 25, 3) BODY_25 for boxes {boxes.shape}, got {keypoints.shape}")
+    keypoints = _checked_keypoints(keypoints, boxes)
     if reach < 0 or height_margin < 0:
         raise ValueError(f"reach and height_margin must be >= 0, got {reach} and {height_margin}")
     confident = (keypoints[..., 2] >= min_confidence) & np.isfinite(keypoints[..., :2]).all(axis=-1)
@@ -235,9 +242,7 @@ def trim_above_pose(boxes: np.ndarray, status, keypoints: np.ndarray, reach: flo
     :func:`enclose_keypoints`). Never below half the box's height. Returns the new boxes and a (T, N) bool mask of
     the boxes lowered. The input is not changed."""
     boxes, status = _checked(boxes, status, min_joints=min_joints)
-    keypoints = np.asarray(keypoints, float)
-    if keypoints.shape != boxes.shape[:2] + (len(BODY25_NAMES), 3):
-        raise ValueError(f"keypoints must be (T, N, 25, 3) BODY_25 for boxes {boxes.shape}, got {keypoints.shape}")
+    keypoints = _checked_keypoints(keypoints, boxes)
     if reach < 0:
         raise ValueError(f"reach must be >= 0, got {reach}")
     joints = keypoints[:, :, _FULL_POSE]
@@ -277,3 +282,16 @@ def smooth_boxes(boxes: np.ndarray, status, window: int = SMOOTH_WINDOW) -> np.n
             centre = uniform_filter1d(centre, window, axis=0, mode="nearest")
             out[run, i] = np.concatenate([centre - size / 2, size], axis=1)
     return out
+
+
+def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray,
+                    frame_width: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The boxes ``hdvr track`` writes, from the online tracker's ``boxes`` (T, N, 4) px, ``status`` and the
+    ``keypoints`` (T, N, 25, 3) written for each dancer: :func:`fill_occluded`, :func:`hold_last_seen`,
+    :func:`enclose_keypoints` (no wider than ``frame_width`` px), :func:`trim_above_pose`, :func:`smooth_boxes`, in
+    that order, with their default settings. Returns the boxes and the (T, N) bool mask of the frames filled."""
+    boxes, filled = fill_occluded(boxes, status)
+    boxes = hold_last_seen(boxes, status, filled)[0]
+    boxes = enclose_keypoints(boxes, status, keypoints, frame_width=frame_width)[0]
+    boxes = trim_above_pose(boxes, status, keypoints)[0]
+    return smooth_boxes(boxes, status), filled

@@ -1368,7 +1368,6 @@ class MultiDancerTracker(ReportedExtent):
         as :meth:`_count_detector_frame` counts them). ``front_histograms``: a dict of the colour histograms of the
         front dancers' boxes, by (dancer id, box), shared by the calls of a frame."""
         c = self.config
-        self._count_detector_frame()  # called on detector frames only (also when called alone, as in tests)
         front_histograms = {} if front_histograms is None else front_histograms
         waiting = self.waiting()
         if not waiting:

@@ -35,8 +35,7 @@ from hdvr.pose2d.selection import PoseSelector
 from hdvr.progress import progress
 from hdvr.tracking.appearance import box_iou, box_overlap
 from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
-from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, SMOOTH_WINDOW, enclose_keypoints, fill_occluded,
-                                     hold_last_seen, smooth_boxes, trim_above_pose)
+from hdvr.tracking.hindsight import apply_hindsight
 from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.state import HIDDEN, body_core
 from hdvr.video import VideoReader, VideoWriter
@@ -214,7 +213,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     last seen, :func:`hdvr.tracking.hindsight.hold_last_seen`), widen each box to enclose its dancer's keypoints
     (:func:`hdvr.tracking.hindsight.enclose_keypoints`), lower the top of a box that reaches far above a full pose
     (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
-    (:func:`hdvr.tracking.hindsight.smooth_boxes`); off, the boxes are those of the online tracker.
+    (:func:`hdvr.tracking.hindsight.smooth_boxes`), all in :func:`hdvr.tracking.hindsight.apply_hindsight`; off, the
+    boxes are those of the online tracker.
     """
     started = time.perf_counter()
     cpu_started = time.process_time()
@@ -343,11 +343,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     run.keypoints = fill_between_detections(run.keypoints, run.detected, detect_every)
     run.filled = np.zeros(run.boxes.shape[:2], bool)
     if hindsight:
-        run.boxes, run.filled = fill_occluded(run.boxes, run.status, MIN_SEEN_AFTER)
-        run.boxes = hold_last_seen(run.boxes, run.status, run.filled)[0]
-        run.boxes = enclose_keypoints(run.boxes, run.status, run.keypoints, frame_width=info.size[0])[0]
-        run.boxes = trim_above_pose(run.boxes, run.status, run.keypoints)[0]
-        run.boxes = smooth_boxes(run.boxes, run.status, SMOOTH_WINDOW)
+        run.boxes, run.filled = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=info.size[0])
     if write:
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
