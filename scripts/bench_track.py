@@ -27,12 +27,16 @@ markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown 
    ``crowd``: the same for groups of ``--synth-crowd`` dancers (default 6 and 8) in four group genres.
    To measure one tracker rule on many clips: render them once into ``--clips-dir``, run once with the defaults
    and once with ``--tracker-config NAME=VALUE`` (e.g. ``reid_from_holder=false``), each with ``--per-clip-json``,
-   and list the clips that changed with ``scripts/compare_track_runs.py``.
+   and list the clips that changed with ``scripts/compare_track_runs.py``. ``--synth-detector truth`` runs the
+   tracker on a perfect detector instead (:class:`hdvr.synth.truth_detector.GroundTruthDetector`: every dancer
+   showing enough of its keypoints, its box the visible part of its body; ``truth-amodal``: its whole ground-truth
+   box, hidden parts included): what fails with it is the tracker's own doing, the rest the detector's.
 
 Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--seeds 6] [--seed-start 0]
                                       [--synth-seeds 7,11,23] [--synth-thresholds 0.3,0.15]
                                       [--sections speed,real,memory,detector,identity,troupe,synth]
                                       [--clips-dir DIR] [--tracker-config NAME=VALUE,...]
+                                      [--synth-detector yolo|truth|truth-amodal]
                                       [--per-clip-json FILE] [--markdown docs/benchmarks.md]
 """
 
@@ -129,6 +133,10 @@ def main() -> int:
                         help="comma-separated detector confidence thresholds for the synthetic clips (synth)")
     parser.add_argument("--clips-dir", type=Path, help="render the synthetic clips (synth, crowd) into this folder "
                         "and reuse those already there (default: a fresh temporary folder)")
+    parser.add_argument("--synth-detector", choices=("yolo", "truth", "truth-amodal"), default="yolo",
+                        help="synth, crowd: YOLO11n-pose (default), or the clip's ground truth as a perfect detector "
+                             "(hdvr.synth.truth_detector: the visible part of each dancer as its box, or with "
+                             "truth-amodal its whole ground-truth box; --synth-thresholds is then not used)")
     parser.add_argument("--tracker-config", default="", help="synth, crowd: MultiTrackerConfig fields to change, "
                         "e.g. reid_from_holder=false,reid_margin=0.25 (to measure one rule against the defaults)")
     parser.add_argument("--no-hindsight", action="store_true", help="synth, crowd: score the online tracker's "
@@ -178,14 +186,16 @@ def main() -> int:
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")],
                                clips_dir=args.clips_dir, config=config, per_clip=per_clip,
-                               hindsight=not args.no_hindsight)
+                               hindsight=not args.no_hindsight, truth_detector=args.synth_detector.startswith("truth"),
+                               amodal_truth=args.synth_detector == "truth-amodal")
     if "crowd" in sections:
         counts = [int(v) for v in args.synth_crowd.split(",")]
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")],
                                clips=[(genre, n) for n in counts for genre in CROWD_GENRES], groups=True,
                                clips_dir=args.clips_dir, config=config, per_clip=per_clip,
-                               hindsight=not args.no_hindsight)
+                               hindsight=not args.no_hindsight, truth_detector=args.synth_detector.startswith("truth"),
+                               amodal_truth=args.synth_detector == "truth-amodal")
     if args.per_clip_json:
         args.per_clip_json.parent.mkdir(parents=True, exist_ok=True)
         args.per_clip_json.write_text(json.dumps({"tracker_config": args.tracker_config,
@@ -380,18 +390,26 @@ def parse_tracker_config(text: str) -> MultiTrackerConfig:
 def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3, 0.15),
                   clips=SYNTH_CLIPS, groups: bool = False, clips_dir: Path | None = None,
                   config: MultiTrackerConfig | None = None, per_clip: dict | None = None,
-                  hindsight: bool = True) -> list[str]:
+                  hindsight: bool = True, truth_detector: bool = False, amodal_truth: bool = False) -> list[str]:
     """Tracking on rendered hdvr.synth clips against their MOT ground truth (boxes from gt.npz) and PCK@0.2 of the
     per-dancer keypoints against their visible ground-truth keypoints. ``clips``: (genre, dancers) per clip
     (``groups``: the crowd section's, rendered in folders of their own); a dancer the camera never sees is left out
     of the scoring. ``clips_dir``: where the clips are rendered (one already there, with its gt.npz, is reused);
     ``config``: the tracker's; ``per_clip``: filled with "seed:index[:groups]:threshold" -> IDF1, switches,
-    hidden starts; ``hindsight``: as :func:`hdvr.tracking.pipeline.track_video`'s."""
+    hidden starts; ``hindsight``: as :func:`hdvr.tracking.pipeline.track_video`'s; ``truth_detector``: each clip's
+    ground truth as a perfect detector (:class:`hdvr.synth.truth_detector.GroundTruthDetector`) instead of YOLO11n-pose
+    (``thresholds`` then name the rows only), with the whole amodal box of each dancer found if ``amodal_truth``."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
+    from hdvr.synth.truth_detector import GroundTruthDetector
 
+    if truth_detector:
+        thresholds = (0,)
+
+    detector_name = (f"the clip's ground truth ({'amodal' if amodal_truth else 'visible'} boxes: a perfect detector, "
+                     "hdvr.synth.truth_detector; threshold column: 0)" if truth_detector else "YOLO11n-pose at 480 px")
     lines = [f"### Synthetic {'groups' if groups else 'dancers'} (hdvr.synth, 640x480, {seconds:g} s at 30 "
              f"frames/s, seed {', '.join(str(s) for s in seeds)})", "",
-             "Tracked from the ground-truth box where each dancer first appears, detector YOLO11n-pose at 480 px on "
+             f"Tracked from the ground-truth box where each dancer first appears, detector {detector_name} on "
              "every 3rd frame; scored against the clip's amodal ground-truth boxes (trackeval). \"pose\": fraction "
              "of detector frames in which each dancer got a pose. \"PCK@0.2\": per dancer, the fraction of its "
              "visible ground-truth keypoints (not hidden by another dancer, inside the image) that its keypoint file "
@@ -410,7 +428,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
     scores = {thr: [] for thr in thresholds}  # (IDF1, switches, dancers starting hidden) per clip
     causes = {thr: {} for thr in thresholds}  # (visibility class, cause) -> dancer-frames, pooled over clips
     joints = body25_joints_of(COCO17_NAMES)
-    detectors = {thr: tracking_detector(model, score_threshold=thr) for thr in thresholds}
+    detectors = {} if truth_detector else {thr: tracking_detector(model, score_threshold=thr) for thr in thresholds}
     for seed in seeds:
         root = (clips_dir or tmp) / f"synth-{seed}{'-groups' if groups else ''}"  # clip folders named by index
         for index, (genre, n) in enumerate(clips):
@@ -422,6 +440,8 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
             n = gt.shape[1]
             order, starts = _starts_from_truth(gt)
             shown = _fewest_frames_shown(truth)
+            if truth_detector:
+                detectors = {0: GroundTruthDetector.from_clip(clip, amodal=amodal_truth)}
             for thr, detector in detectors.items():
                 run = track_video(clip / "video.mp4", tmp / "synth-out", detector=detector, starts=starts,
                                   detect_every=3, overlay=False, write=False, config=config, hindsight=hindsight)
