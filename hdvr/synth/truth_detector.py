@@ -30,6 +30,7 @@ import numpy as np
 from hdvr.errors import HDVRError
 from hdvr.io.keypoints2d import BODY25_NAMES
 from hdvr.pose2d.base import PersonPose
+from hdvr.tracking.evaluation import visible_truth_keypoints
 
 #: a dancer showing at least this fraction of its keypoints is a sure find
 SURE_FRACTION = 0.5
@@ -37,7 +38,6 @@ SURE_FRACTION = 0.5
 WEAK_FRACTION = 0.3
 #: x the amodal box height: how far the box reaches beyond the outermost visible keypoints
 BOX_MARGIN = 0.15
-_VISIBLE = 2  # gt.npz visibility code of a keypoint neither hidden by another dancer nor outside the image
 
 
 class GroundTruthDetector:
@@ -60,9 +60,9 @@ class GroundTruthDetector:
             raise HDVRError(f"need 0 < weak_fraction <= sure_fraction <= 1, got {weak_fraction} and {sure_fraction}")
         if margin < 0:
             raise HDVRError(f"margin must be >= 0, got {margin}")
-        self.keypoints2d = keypoints2d.astype(float)
-        self.visible = visibility == _VISIBLE
-        self.boxes = boxes.astype(float)
+        # (T, N, 25, 3): x px, y px, 1 where visible, as the benchmark's PCK scores them
+        self.truth = visible_truth_keypoints(keypoints2d, visibility)
+        self.boxes = np.transpose(boxes, (1, 0, 2)).astype(float)  # (T, N, 4)
         self.sure_fraction, self.weak_fraction, self.margin = sure_fraction, weak_fraction, margin
         self.amodal = amodal
 
@@ -78,25 +78,23 @@ class GroundTruthDetector:
 
     @property
     def num_frames(self) -> int:
-        return self.keypoints2d.shape[1]
+        return self.truth.shape[0]
 
     def detect(self, frame_bgr: np.ndarray, frame_index: int) -> list[PersonPose]:
         """The dancers a perfect detector finds on frame ``frame_index`` (``frame_bgr`` is not looked at)."""
         if not 0 <= frame_index < self.num_frames:
             raise HDVRError(f"frame {frame_index} is outside the ground truth's {self.num_frames} frames")
         found = []
-        for points, visible, amodal in zip(self.keypoints2d[:, frame_index], self.visible[:, frame_index],
-                                           self.boxes[:, frame_index]):
+        for truth, amodal in zip(self.truth[frame_index], self.boxes[frame_index]):
+            visible = truth[:, 2] > 0
             shown = float(visible.mean())
             if shown < self.weak_fraction or not np.isfinite(amodal).all() or amodal[3] <= 0:
                 continue
-            box = tuple(float(v) for v in amodal) if self.amodal else self._visible_box(points[visible], amodal)
+            box = tuple(float(v) for v in amodal) if self.amodal else self._visible_box(truth[visible, :2], amodal)
             if box is None:
                 continue
-            keypoints = np.zeros((len(BODY25_NAMES), 3), np.float32)
-            keypoints[:, :2] = np.nan
-            keypoints[visible, :2] = points[visible]
-            keypoints[visible, 2] = 1.0
+            keypoints = truth.astype(np.float32)
+            keypoints[~visible, :2] = np.nan
             found.append(PersonPose(keypoints, box, shown, joint_names=tuple(BODY25_NAMES),
                                     weak=shown < self.sure_fraction))
         return found
