@@ -186,16 +186,14 @@ def main() -> int:
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")],
                                clips_dir=args.clips_dir, config=config, per_clip=per_clip,
-                               hindsight=not args.no_hindsight, truth_detector=args.synth_detector.startswith("truth"),
-                               amodal_truth=args.synth_detector == "truth-amodal")
+                               hindsight=not args.no_hindsight, detector=args.synth_detector)
     if "crowd" in sections:
         counts = [int(v) for v in args.synth_crowd.split(",")]
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
                                thresholds=[float(v) for v in args.synth_thresholds.split(",")],
                                clips=[(genre, n) for n in counts for genre in CROWD_GENRES], groups=True,
                                clips_dir=args.clips_dir, config=config, per_clip=per_clip,
-                               hindsight=not args.no_hindsight, truth_detector=args.synth_detector.startswith("truth"),
-                               amodal_truth=args.synth_detector == "truth-amodal")
+                               hindsight=not args.no_hindsight, detector=args.synth_detector)
     if args.per_clip_json:
         args.per_clip_json.parent.mkdir(parents=True, exist_ok=True)
         args.per_clip_json.write_text(json.dumps({"tracker_config": args.tracker_config,
@@ -390,18 +388,22 @@ def parse_tracker_config(text: str) -> MultiTrackerConfig:
 def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3, 0.15),
                   clips=SYNTH_CLIPS, groups: bool = False, clips_dir: Path | None = None,
                   config: MultiTrackerConfig | None = None, per_clip: dict | None = None,
-                  hindsight: bool = True, truth_detector: bool = False, amodal_truth: bool = False) -> list[str]:
+                  hindsight: bool = True, detector: str = "yolo") -> list[str]:
     """Tracking on rendered hdvr.synth clips against their MOT ground truth (boxes from gt.npz) and PCK@0.2 of the
     per-dancer keypoints against their visible ground-truth keypoints. ``clips``: (genre, dancers) per clip
     (``groups``: the crowd section's, rendered in folders of their own); a dancer the camera never sees is left out
     of the scoring. ``clips_dir``: where the clips are rendered (one already there, with its gt.npz, is reused);
     ``config``: the tracker's; ``per_clip``: filled with "seed:index[:groups]:threshold" -> IDF1, switches,
-    hidden starts; ``hindsight``: as :func:`hdvr.tracking.pipeline.track_video`'s; ``truth_detector``: each clip's
-    ground truth as a perfect detector (:class:`hdvr.synth.truth_detector.GroundTruthDetector`) instead of YOLO11n-pose
-    (``thresholds`` then name the rows only), with the whole amodal box of each dancer found if ``amodal_truth``."""
+    hidden starts; ``hindsight``: as :func:`hdvr.tracking.pipeline.track_video`'s; ``detector``: "yolo"
+    (YOLO11n-pose), or "truth" / "truth-amodal", each clip's ground truth as a perfect detector
+    (:class:`hdvr.synth.truth_detector.GroundTruthDetector`, the visible part or the whole amodal box of each dancer
+    found as its box; ``thresholds`` are then not used)."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
     from hdvr.synth.truth_detector import GroundTruthDetector
 
+    if detector not in ("yolo", "truth", "truth-amodal"):
+        raise ValueError(f"synth_section: detector must be yolo, truth or truth-amodal, got {detector!r}")
+    truth_detector, amodal_truth = detector != "yolo", detector == "truth-amodal"
     if truth_detector:
         thresholds = (0,)
 
