@@ -296,8 +296,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                     hidden_starts.append((t, i, front))
                     print(f"hdvr: warning: dancer {i} starts mostly hidden behind dancer {front} (frame {t}): its "
                           f"colours are unknown until it comes out clear of the others, and it may be taken for "
-                          f"dancer {front}; check it in the overlay video, or give it a start box in a later frame "
-                          f"where it is seen clearly (--boxes-file with start frames)", file=sys.stderr)
+                          f"dancer {front}; check it in the overlay video, and if it is, give it a start box in a "
+                          f"later frame where it is seen clearly (--boxes-file with start frames)", file=sys.stderr)
             # the frame's result from step() holds unless dancers were added after it
             result = _pad(stepped if stepped is not None and not new_ids else tracker.result(), n)
             stage["track"] += time.perf_counter() - tic
