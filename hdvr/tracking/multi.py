@@ -420,7 +420,7 @@ class MultiDancerTracker(ReportedExtent):
         def shows_d(det) -> bool:
             iou = box_iou(d.box, det)
             return (iou >= c.start_seen_iou and _height_within(det, d.box, c.max_height_change)
-                    and det[2] / det[3] <= c.start_seen_aspect * d.box[2] / d.box[3]
+                    and not self._wider_than(det, d, c.start_seen_aspect)
                     and all(box_iou(o.box, det) <= iou - c.start_seen_margin for o in everyone if o is not d))
 
         if sum(shows_d(det) for det in detections) != 1:
