@@ -102,9 +102,10 @@ WEAK_DETECTION_THRESHOLD = 0.2  # ONNX detectors: people scoring 0.2-0.3 are wea
 
 def make_detector(name: str = "yolo11n", size: int = 480, pose_model: str | None = None,
                   openpose_json: str | None = None, threads: int | None = None,
-                  weak_threshold: float | None = WEAK_DETECTION_THRESHOLD):
+                  weak_threshold: float | None = WEAK_DETECTION_THRESHOLD, flip_test: bool = False):
     """The 2D pose detector by name: yolo11n (default, offline weights), onnx, openpose or none. ONNX detectors
-    report people scoring from ``weak_threshold`` up to their sure threshold (0.3) as weak finds (None: none)."""
+    report people scoring from ``weak_threshold`` up to their sure threshold (0.3) as weak finds (None: none), and
+    with ``flip_test`` look at the mirrored frame too (:class:`hdvr.pose2d.onnx_pose.OnnxPoseDetector`)."""
     kind = name.lower()
     if kind == "none":
         return None
@@ -119,12 +120,13 @@ def make_detector(name: str = "yolo11n", size: int = 480, pose_model: str | None
     if kind == "onnx" or pose_model:
         if not pose_model:
             raise HDVRError("--detector onnx needs --pose-model MODEL.onnx")
-        return OnnxPoseDetector(pose_model, input_size=size, threads=threads, weak_threshold=weak_threshold)
+        return OnnxPoseDetector(pose_model, input_size=size, threads=threads, weak_threshold=weak_threshold,
+                                flip_test=flip_test)
     if kind == "yolo11n":
         from hdvr.pose2d.models import default_pose_model
 
         return OnnxPoseDetector(default_pose_model(), input_size=size, threads=threads,
-                                weak_threshold=weak_threshold)
+                                weak_threshold=weak_threshold, flip_test=flip_test)
     raise HDVRError(f"unknown detector {name!r}: use yolo11n, onnx, openpose or none")
 
 

