@@ -1,10 +1,12 @@
-"""Hindsight once a video is tracked: occluded stretches filled, boxes smoothed (hdvr.tracking.hindsight)."""
+"""Hindsight once a video is tracked: occluded stretches filled, boxes smoothed, hidden dancers kept near their
+start offset (hdvr.tracking.hindsight)."""
 
 import numpy as np
 import pytest
 
-from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, enclose_keypoints, fill_occluded, interpolate_boxes,
-                                     hold_last_seen, occluded_stretches, smooth_boxes, trim_above_pose)
+from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, START_OFFSET_WEIGHT, apply_hindsight, enclose_keypoints,
+                                     fill_occluded, hold_last_seen, interpolate_boxes, keep_start_offset,
+                                     occluded_stretches, smooth_boxes, start_offsets, trim_above_pose)
 
 
 def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
@@ -310,3 +312,67 @@ def test_only_a_stretch_right_after_a_sighting_is_held():
         assert not held.any()
     with pytest.raises(ValueError, match="filled"):
         hold_last_seen(boxes, _status(8), np.zeros((8, 2), bool))
+
+
+def _stack(frames: int = 12) -> tuple[np.ndarray, list[tuple[str, str]]]:
+    """Dancer 0 walking right in front; dancer 1 (box 100 px tall) starting 20 px to his right, mostly behind him,
+    and waiting hidden there for 8 frames while its box drifts onto his (as a tracker following the stack does),
+    then seen again clear of him."""
+    front = _walk(frames)[:, 0]
+    behind = front.copy()
+    behind[:, 3] = 100.0
+    behind[:, 0] += np.linspace(20.0, 0.0, frames)  # the box's centre drifts from +20 px to his centre
+    behind[:, 0] += (front[:, 2] - behind[:, 2]) / 2
+    status = [("tracked", "hidden" if t < 8 else "tracked") for t in range(frames)]
+    return np.stack([front, behind], axis=1), status
+
+
+def test_start_offsets_are_measured_in_the_hidden_dancer_s_box_heights():
+    boxes, _ = _stack()
+    assert start_offsets(boxes, [(0, 1, 0)]) == {1: (0, pytest.approx(0.2))}
+    assert start_offsets(boxes, []) == {}
+    gone = boxes.copy()
+    gone[0, 0] = np.nan  # no box in front at the start frame: no offset
+    assert start_offsets(gone, [(0, 1, 0)]) == {}
+
+
+def test_a_hidden_dancer_s_box_moves_part_of_the_way_back_to_its_start_offset():
+    """Only frames with status "hidden" move, sideways only, by ``weight`` of the gap between the box's offset
+    from the front dancer's box and the start offset; weight 1 restores the start offset, 0 changes nothing."""
+    boxes, status = _stack()
+    offsets = start_offsets(boxes, [(0, 1, 0)])
+    moved = keep_start_offset(boxes, status, offsets, weight=0.25)
+    centre = lambda b: b[..., 0] + b[..., 2] / 2  # noqa: E731
+    gap = 20.0 - (centre(boxes[:, 1]) - centre(boxes[:, 0]))  # px, start offset minus offset now
+    np.testing.assert_allclose(centre(moved[:8, 1]) - centre(boxes[:8, 1]), 0.25 * gap[:8])
+    np.testing.assert_array_equal(moved[8:], boxes[8:])  # seen again: not moved
+    np.testing.assert_array_equal(moved[:, 0], boxes[:, 0])  # the front dancer is not moved
+    np.testing.assert_array_equal(moved[..., 1:], boxes[..., 1:])  # sideways only
+    full = keep_start_offset(boxes, status, offsets, weight=1.0)
+    np.testing.assert_allclose(centre(full[:8, 1]) - centre(full[:8, 0]), 20.0)
+    np.testing.assert_array_equal(keep_start_offset(boxes, status, offsets, weight=0.0), boxes)
+    np.testing.assert_array_equal(keep_start_offset(boxes, status, {}), boxes)
+    with pytest.raises(ValueError, match="weight"):
+        keep_start_offset(boxes, status, offsets, weight=1.5)
+
+
+def test_a_hidden_dancer_without_a_box_in_front_keeps_its_box():
+    boxes, status = _stack()
+    offsets = start_offsets(boxes, [(0, 1, 0)])
+    boxes[3:5, 0] = np.nan  # the front dancer left the frame for two frames
+    moved = keep_start_offset(boxes, status, offsets)
+    np.testing.assert_array_equal(moved[3:5], boxes[3:5])
+    assert (moved[[1, 2, 5, 6, 7], 1, 0] != boxes[[1, 2, 5, 6, 7], 1, 0]).all()
+
+
+def test_apply_hindsight_keeps_a_hidden_start_s_offset_after_the_other_steps():
+    """``apply_hindsight`` with the hidden starts moves the hidden frames of the boxes its other steps wrote, with
+    the start offsets of the online boxes it was given; without them nothing moves."""
+    boxes, status = _stack()
+    keypoints = np.full(boxes.shape[:2] + (25, 3), np.nan)
+    keypoints[..., 2] = 0
+    plain, filled = apply_hindsight(boxes, status, keypoints)
+    kept, filled_too = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)])
+    np.testing.assert_array_equal(filled, filled_too)
+    np.testing.assert_allclose(kept, keep_start_offset(plain, status, {1: (0, 0.2)}, START_OFFSET_WEIGHT))
+    assert np.abs(kept[:8, 1, 0] - plain[:8, 1, 0]).max() > 1.0

@@ -63,6 +63,33 @@ def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
     assert doc["hidden_starts"] == [{"frame": 0, "dancer": 1, "behind": 0}]
 
 
+def test_a_dancer_waiting_hidden_keeps_part_of_its_start_offset_in_the_boxes_written(tmp_path):
+    """The boxes written for a dancer waiting hidden behind another are the online boxes put through
+    ``apply_hindsight`` with the run's hidden starts: moved a quarter of the way back to its start offset from
+    the dancer in front (with no detector the walker never comes out, and waits all clip)."""
+    from hdvr.tracking.hindsight import START_OFFSET_WEIGHT, apply_hindsight, start_offsets
+    from hdvr.tracking.pipeline import track_video
+
+    path = tmp_path / "stack.mp4"
+    truth = render_clip(path, frames=30, size=(320, 240), specs=_walker_behind_still())
+    runs = {h: track_video(path, tmp_path / f"out{h}", detector=None, boxes=truth.boxes[0], overlay=False,
+                           hindsight=h) for h in (True, False)}
+    assert runs[True].hidden_starts == runs[False].hidden_starts == [(0, 1, 0)]
+    hidden = [t for t, s in enumerate(runs[True].status) if s[1] == "hidden"]
+    assert hidden == list(range(30))
+    online = runs[False].boxes
+    expected = apply_hindsight(online, runs[False].status, runs[False].keypoints, frame_width=320,
+                               hidden_starts=[(0, 1, 0)])[0]
+    np.testing.assert_allclose(runs[True].boxes, expected)
+    plain = apply_hindsight(online, runs[False].status, runs[False].keypoints, frame_width=320)[0]
+    centre = lambda b: b[:, 0] + b[:, 2] / 2  # noqa: E731
+    front, offset = start_offsets(online, [(0, 1, 0)])[1]
+    assert front == 0 and offset != 0
+    now = (centre(plain[:, 1]) - centre(plain[:, front])) / plain[:, 1, 3]
+    np.testing.assert_allclose((centre(expected[:, 1]) - centre(plain[:, 1])) / plain[:, 1, 3],
+                               START_OFFSET_WEIGHT * (offset - now), atol=1e-9)
+
+
 def test_track_starts_a_hidden_dancer_later_from_a_boxes_file(tmp_path, capsys):
     """A dancer hidden in the first frame is given its box where it is seen clearly (MOT text: its id's first row):
     it is absent before, tracked from there, and nothing warns; a start after the video's end is refused."""
@@ -366,7 +393,8 @@ def test_an_occluded_stretch_gets_boxes_filled_with_hindsight(tmp_path):
     assert len(occluded) >= 10 and occluded == list(range(first, last + 1)) and status[last + 1] == "tracked"
     assert np.flatnonzero(runs[True].filled[:, 1]).tolist() == occluded and not runs[True].filled[:, 0].any()
     online, written = runs[False].boxes, runs[True].boxes
-    expected, filled = apply_hindsight(online, runs[False].status, runs[False].keypoints, frame_width=640)
+    expected, filled = apply_hindsight(online, runs[False].status, runs[False].keypoints, frame_width=640,
+                                       hidden_starts=runs[False].hidden_starts)
     np.testing.assert_allclose(written, expected)
     np.testing.assert_array_equal(filled, runs[True].filled)
     assert min(iou_matrix(truth.boxes[t, 1][None], written[t, 1][None])[0, 0] for t in occluded) >= 0.6

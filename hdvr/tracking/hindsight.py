@@ -1,7 +1,8 @@
 """Hindsight once a whole video is tracked: occluded stretches filled (or held where the dancer was last seen),
-boxes widened to their keypoints (and lowered where they reach far above a full pose), and boxes smoothed over time.
+boxes widened to their keypoints (and lowered where they reach far above a full pose), boxes smoothed over time, and
+the box of a dancer waiting hidden behind another kept partly at its start offset from that dancer.
 
-Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so five offline steps can use the
+Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so six offline steps can use the
 frames after each one, as offline multi-object trackers do (ByteTrack's and StrongSORT's linear interpolation of the
 missing frames of a track, StrongSORT's smoothing of the boxes):
 
@@ -57,6 +58,18 @@ averaged over a centred window of ``window`` frames: the tracker and the detecto
 from frame to frame where the dancer moves smoothly (936 hdvr synth clips, after the filling: clips below IDF1 0.9
 or with a switch 67 -> 62 with 9 frames; docs/benchmarks.md "session 31").
 
+
+
+:func:`keep_start_offset`: a dancer whose start box lies mostly behind another dancer's waits hidden there (status
+``hidden``) until it comes out clear, and its tracker follows what its box shows, the dancer in front, so its box
+drifts to his place. Dancers that stand one behind the other mostly keep their places in the formation, so where
+the box was against the front dancer's at the start says where the hidden dancer still is. Each such box is moved
+sideways ``weight`` of the way from where the tracker has it (against the front dancer's box) to its start offset.
+The two guesses are each right on some clips and wrong on others: holding the start offset outright loses to the
+tracker's box (219 hdvr synth clips with a hidden start: 35 -> 47 failing, IDF1 below 0.9 or a switch), a quarter of
+the way towards it wins (35 -> 27; weights 0.1-0.35 gave 27-30; 83 fresh clips with a hidden start 16 -> 14;
+moving the bottom edge as well: 29 and 12; docs/benchmarks.md "session 37").
+
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
 
@@ -68,7 +81,7 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from hdvr.io.keypoints2d import BODY25_NAMES
-from hdvr.tracking.state import OCCLUDED, TRACKED
+from hdvr.tracking.state import HIDDEN, OCCLUDED, TRACKED
 
 #: frames in a row a dancer must be seen after a stretch occluded for the stretch to be filled towards it
 #: (chosen on 936 hdvr synth clips: 3 and 5 frames gave 67 and 68 clips below IDF1 0.9 or with a switch, 72 without
@@ -101,6 +114,9 @@ _TORSO = [BODY25_NAMES.index(name) for name in ("neck", "right_shoulder", "left_
 #: frames of the centred moving average of :func:`smooth_boxes` (0.3 s at 30 frames/s; chosen on the 936 clips:
 #: 7, 9, 13 and 17 frames gave 65, 62, 61 and 62 clips failing, 9 the fewest switches, 18)
 SMOOTH_WINDOW = 9
+#: how far a hidden dancer's box moves from the tracker's place towards its start offset from the dancer in front
+#: (:func:`keep_start_offset`; chosen on the 219 hdvr synth clips with a hidden start of seeds 201-912 and 1101-1512)
+START_OFFSET_WEIGHT = 0.25
 
 
 def _runs(mask) -> list[tuple[int, int]]:
@@ -284,14 +300,50 @@ def smooth_boxes(boxes: np.ndarray, status, window: int = SMOOTH_WINDOW) -> np.n
     return out
 
 
-def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray,
-                    frame_width: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The boxes ``hdvr track`` writes, from the online tracker's ``boxes`` (T, N, 4) px, ``status`` and the
-    ``keypoints`` (T, N, 25, 3) written for each dancer: :func:`fill_occluded`, :func:`hold_last_seen`,
-    :func:`enclose_keypoints` (no wider than ``frame_width`` px), :func:`trim_above_pose`, :func:`smooth_boxes`, in
-    that order, with their default settings. Returns the boxes and the (T, N) bool mask of the frames filled."""
+def start_offsets(boxes: np.ndarray, hidden_starts) -> dict[int, tuple[int, float]]:
+    """For each dancer that starts hidden behind another (``hidden_starts``: (frame, dancer, dancer in front)
+    triples), the dancer in front and the horizontal offset of its box centre from that dancer's box centre in
+    ``boxes`` (T, N, 4) px at its start frame, in its own box heights (positive: to the right in the image)."""
+    boxes = np.asarray(boxes, float)
+    out = {}
+    for frame, dancer, front in hidden_starts:
+        own, other = boxes[frame, dancer], boxes[frame, front]
+        if np.isfinite(own).all() and np.isfinite(other).all() and own[3] > 0:
+            out[int(dancer)] = (int(front), float((own[0] + own[2] / 2 - other[0] - other[2] / 2) / own[3]))
+    return out
+
+
+def keep_start_offset(boxes: np.ndarray, status, offsets: dict[int, tuple[int, float]],
+                      weight: float = START_OFFSET_WEIGHT) -> np.ndarray:
+    """``boxes`` (T, N, 4) px with each dancer of ``offsets`` (:func:`start_offsets`) moved sideways, on the frames
+    where it waits hidden (status ``hidden``) and both its box and its front dancer's are known, ``weight`` of the way
+    from its offset from the front dancer's box to its start offset (module docstring). Size and height are kept.
+    The input is not changed."""
+    boxes, status = _checked(boxes, status)
+    if not 0 <= weight <= 1:
+        raise ValueError(f"weight must be in [0, 1], got {weight}")
+    out = boxes.copy()
+    for dancer, (front, offset) in offsets.items():
+        frames = np.flatnonzero((status[:, dancer] == HIDDEN) & np.isfinite(boxes[:, dancer]).all(axis=1)
+                                & np.isfinite(boxes[:, front]).all(axis=1))
+        own, other = boxes[frames, dancer], boxes[frames, front]
+        now = (own[:, 0] + own[:, 2] / 2 - other[:, 0] - other[:, 2] / 2) / own[:, 3]
+        out[frames, dancer, 0] = own[:, 0] + weight * (offset - now) * own[:, 3]
+    return out
+
+
+def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
+                    hidden_starts=()) -> tuple[np.ndarray, np.ndarray]:
+    """The boxes ``hdvr track`` writes, from the online tracker's ``boxes`` (T, N, 4) px, ``status``, the
+    ``keypoints`` (T, N, 25, 3) written for each dancer and the dancers that start hidden behind another
+    (``hidden_starts``: (frame, dancer, dancer in front) triples): :func:`fill_occluded`, :func:`hold_last_seen`,
+    :func:`enclose_keypoints` (no wider than ``frame_width`` px), :func:`trim_above_pose`, :func:`smooth_boxes`,
+    :func:`keep_start_offset` (with the start offsets of the online boxes), in that order, with their default
+    settings. Returns the boxes and the (T, N) bool mask of the frames filled."""
+    offsets = start_offsets(boxes, hidden_starts)
     boxes, filled = fill_occluded(boxes, status)
     boxes = hold_last_seen(boxes, status, filled)[0]
     boxes = enclose_keypoints(boxes, status, keypoints, frame_width=frame_width)[0]
     boxes = trim_above_pose(boxes, status, keypoints)[0]
-    return smooth_boxes(boxes, status), filled
+    boxes = smooth_boxes(boxes, status)
+    return keep_start_offset(boxes, status, offsets), filled

@@ -343,7 +343,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     run.keypoints = fill_between_detections(run.keypoints, run.detected, detect_every)
     run.filled = np.zeros(run.boxes.shape[:2], bool)
     if hindsight:
-        run.boxes, run.filled = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=info.size[0])
+        run.boxes, run.filled = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=info.size[0],
+                                                hidden_starts=hidden_starts)
     if write:
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
