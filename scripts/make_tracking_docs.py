@@ -7,8 +7,9 @@ person boxes of that frame in white. Writes one JPEG per (seed, clip, frame) int
 ``BEFORE_AFTER`` one picture with the frame tracked without a rule (left) and with it (right), and for those of
 ``HINDSIGHT`` one with the online tracker's boxes (left) and the boxes written, occluded stretches filled with
 hindsight (right), for those of ``KEYPOINT_REACH`` one with the boxes filled and smoothed (left) and widened to
-the dancers' keypoints before the smoothing (right), and for those of ``HEAD_REACH`` one with the boxes widened
-(left) and lowered to a full pose's head, as written (right).
+the dancers' keypoints before the smoothing (right), for those of ``HEAD_REACH`` one with the boxes widened
+(left) and lowered to a full pose's head (right), and for those of ``START_OFFSET`` one with the boxes before
+(left) and after (right) a dancer waiting hidden behind another is moved towards her start offset, as written.
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -48,11 +49,16 @@ KEYPOINT_REACH = (
 HEAD_REACH = (
     (309, 2, "hip_hop", 3, 96, "tracking_head_reach_s309_hip_hop_096.jpg"),
 )
+#: (seed, clip index, genre, dancers, frame, picture name): a frame where a dancer waits hidden behind another
+START_OFFSET = (
+    (906, 2, "hip_hop", 3, 44, "tracking_start_offset_s906_hip_hop_044.jpg"),
+)
 #: (--only value, cases, the two of :func:`_hindsight_steps_case`'s boxes drawn, their titles, the step shown)
 STEP_PICTURES = (
     ("keypoints", KEYPOINT_REACH, slice(0, 2), ("filled and smoothed", "widened to the keypoints too"), "widening"),
-    ("head", HEAD_REACH, slice(1, 3), ("widened to the keypoints", "lowered to the head's reach too (as written)"),
-     "lowering"),
+    ("head", HEAD_REACH, slice(1, 3), ("widened to the keypoints", "lowered to the head's reach too"), "lowering"),
+    ("start-offset", START_OFFSET, slice(2, 4), ("before the start offset", "towards the start offset (as written)"),
+     "start offset"),
 )
 COLOURS = [(0, 0, 255), (0, 190, 0), (255, 60, 0), (0, 200, 220)]  # BGR
 
@@ -129,8 +135,9 @@ def _track_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int, 
 
 def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str, n: int):
     """Render and track clip ``index`` of ``seed`` once; returns (gt, [boxes filled (or held) and smoothed, also
-    widened to the keypoints, as written (:func:`hdvr.tracking.hindsight.apply_hindsight`: also lowered to a full
-    pose's head)], path of the video), dancers in the clip's order."""
+    widened to the keypoints, also lowered to a full pose's head (:func:`hdvr.tracking.hindsight.apply_hindsight`
+    without the hidden starts), as written (a dancer waiting hidden moved towards her start offset too)], path of
+    the video), dancers in the clip's order."""
     from hdvr.tracking.hindsight import apply_hindsight, enclose_keypoints, fill_occluded, hold_last_seen, smooth_boxes
     from hdvr.tracking.pipeline import track_video
 
@@ -140,8 +147,10 @@ def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str
     filled, mask = fill_occluded(run.boxes, run.status)
     filled, _ = hold_last_seen(filled, run.status, mask)
     widened, _ = enclose_keypoints(filled, run.status, run.keypoints, frame_width=run.size[0])
-    written, _ = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0])
-    steps = [smooth_boxes(filled, run.status), smooth_boxes(widened, run.status), written]
+    lowered, _ = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0])
+    written, _ = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
+                                 hidden_starts=run.hidden_starts)
+    steps = [smooth_boxes(filled, run.status), smooth_boxes(widened, run.status), lowered, written]
     return gt, [b[:, np.argsort(order)] for b in steps], video
 
 
@@ -193,9 +202,11 @@ def _write_two_runs(path: Path, video: Path, detector, frame_index: int, gt: np.
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
-    parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head"), default=None,
+    parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset"),
+                        default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
-                             "of boxes widened to the keypoints or the ones of boxes lowered to a full pose's head")
+                             "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
+                             "the ones of a hidden dancer moved towards her start offset")
     args = parser.parse_args(argv)
 
     from dataclasses import replace
