@@ -58,8 +58,6 @@ averaged over a centred window of ``window`` frames: the tracker and the detecto
 from frame to frame where the dancer moves smoothly (936 hdvr synth clips, after the filling: clips below IDF1 0.9
 or with a switch 67 -> 62 with 9 frames; docs/benchmarks.md "session 31").
 
-
-
 :func:`keep_start_offset`: a dancer whose start box lies mostly behind another dancer's waits hidden there (status
 ``hidden``) until it comes out clear, and its tracker follows what its box shows, the dancer in front, so its box
 drifts to his place. Dancers that stand one behind the other mostly keep their places in the formation, so where
@@ -325,7 +323,7 @@ def keep_start_offset(boxes: np.ndarray, status, offsets: dict[int, tuple[int, f
     out = boxes.copy()
     for dancer, (front, offset) in offsets.items():
         frames = np.flatnonzero((status[:, dancer] == HIDDEN) & np.isfinite(boxes[:, dancer]).all(axis=1)
-                                & np.isfinite(boxes[:, front]).all(axis=1))
+                                & np.isfinite(boxes[:, front]).all(axis=1) & (np.nan_to_num(boxes[:, dancer, 3]) > 0))
         own, other = boxes[frames, dancer], boxes[frames, front]
         now = (own[:, 0] + own[:, 2] / 2 - other[:, 0] - other[:, 2] / 2) / own[:, 3]
         out[frames, dancer, 0] = own[:, 0] + weight * (offset - now) * own[:, 3]
