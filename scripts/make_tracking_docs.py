@@ -138,7 +138,8 @@ def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str
     widened to the keypoints, also lowered to a full pose's head (:func:`hdvr.tracking.hindsight.apply_hindsight`
     without the hidden starts), as written (a dancer waiting hidden moved towards her start offset too)], path of
     the video), dancers in the clip's order."""
-    from hdvr.tracking.hindsight import apply_hindsight, enclose_keypoints, fill_occluded, hold_last_seen, smooth_boxes
+    from hdvr.tracking.hindsight import (apply_hindsight, enclose_keypoints, fill_occluded, hold_last_seen,
+                                         keep_start_offset, smooth_boxes, start_offsets)
     from hdvr.tracking.pipeline import track_video
 
     gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
@@ -148,8 +149,7 @@ def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str
     filled, _ = hold_last_seen(filled, run.status, mask)
     widened, _ = enclose_keypoints(filled, run.status, run.keypoints, frame_width=run.size[0])
     lowered, _ = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0])
-    written, _ = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
-                                 hidden_starts=run.hidden_starts)
+    written = keep_start_offset(lowered, run.status, start_offsets(run.boxes, run.hidden_starts))  # the last step
     steps = [smooth_boxes(filled, run.status), smooth_boxes(widened, run.status), lowered, written]
     return gt, [b[:, np.argsort(order)] for b in steps], video
 

@@ -298,6 +298,12 @@ def smooth_boxes(boxes: np.ndarray, status, window: int = SMOOTH_WINDOW) -> np.n
     return out
 
 
+def _sideways_offset(own: np.ndarray, other: np.ndarray) -> np.ndarray:
+    """Horizontal offset of the centres of boxes ``own`` from those of ``other`` (..., 4) px, in ``own``'s box
+    heights (positive: to the right in the image)."""
+    return (own[..., 0] + own[..., 2] / 2 - other[..., 0] - other[..., 2] / 2) / own[..., 3]
+
+
 def start_offsets(boxes: np.ndarray, hidden_starts) -> dict[int, tuple[int, float]]:
     """For each dancer that starts hidden behind another (``hidden_starts``: (frame, dancer, dancer in front)
     triples), the dancer in front and the horizontal offset of its box centre from that dancer's box centre in
@@ -307,7 +313,7 @@ def start_offsets(boxes: np.ndarray, hidden_starts) -> dict[int, tuple[int, floa
     for frame, dancer, front in hidden_starts:
         own, other = boxes[frame, dancer], boxes[frame, front]
         if np.isfinite(own).all() and np.isfinite(other).all() and own[3] > 0:
-            out[int(dancer)] = (int(front), float((own[0] + own[2] / 2 - other[0] - other[2] / 2) / own[3]))
+            out[int(dancer)] = (int(front), float(_sideways_offset(own, other)))
     return out
 
 
@@ -324,8 +330,8 @@ def keep_start_offset(boxes: np.ndarray, status, offsets: dict[int, tuple[int, f
     for dancer, (front, offset) in offsets.items():
         frames = np.flatnonzero((status[:, dancer] == HIDDEN) & np.isfinite(boxes[:, dancer]).all(axis=1)
                                 & np.isfinite(boxes[:, front]).all(axis=1) & (np.nan_to_num(boxes[:, dancer, 3]) > 0))
-        own, other = boxes[frames, dancer], boxes[frames, front]
-        now = (own[:, 0] + own[:, 2] / 2 - other[:, 0] - other[:, 2] / 2) / own[:, 3]
+        own = boxes[frames, dancer]
+        now = _sideways_offset(own, boxes[frames, front])
         out[frames, dancer, 0] = own[:, 0] + weight * (offset - now) * own[:, 3]
     return out
 
