@@ -113,33 +113,35 @@ class OnnxPoseDetector:
 
     # --------------------------------------------------------------- detect
     def _candidates(self, canvas: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The model's people on a letterboxed ``canvas``: boxes (K, 4) x1, y1, x2, y2, scores (K,) and keypoints
-        (K, 17, 3), in canvas pixels; raw anchors (before non-maximum suppression) for ``yolo``."""
+        """The model's people on a letterboxed ``canvas`` scoring ``weak_threshold`` or more: boxes (K, 4) x1, y1,
+        x2, y2, scores (K,) and keypoints (K, 17, 3), in canvas pixels; raw anchors (before non-maximum suppression)
+        for ``yolo``."""
         if self.model_format == "rtmo":
             blob = np.ascontiguousarray(canvas.transpose(2, 0, 1))[None].astype(np.float32)
             boxes, kpts = self.session.run(None, {self.input_name: blob})[:2]
-            return boxes[0][:, :4], boxes[0][:, 4], kpts[0].astype(np.float32)
-        blob = cv2.dnn.blobFromImage(np.ascontiguousarray(canvas), 1 / 255.0, swapRB=True)
-        out = self.session.run(None, {self.input_name: blob})[0][0]
-        if self.model_format == "yolo":
-            out = out.T  # (anchors, 56)
-            cx, cy, bw, bh = out[:, 0], out[:, 1], out[:, 2], out[:, 3]
-            xyxy = np.stack([cx - bw / 2, cy - bh / 2, cx + bw / 2, cy + bh / 2], axis=1)
-            return xyxy, out[:, 4], out[:, 5:].reshape(-1, 17, 3)
-        return out[:, :4], out[:, 4], out[:, 6:].reshape(-1, 17, 3)
+            xyxy, scores, kp = boxes[0][:, :4], boxes[0][:, 4], kpts[0].astype(np.float32)
+        else:
+            blob = cv2.dnn.blobFromImage(np.ascontiguousarray(canvas), 1 / 255.0, swapRB=True)
+            out = self.session.run(None, {self.input_name: blob})[0][0]
+            if self.model_format == "yolo":
+                out = out.T  # (anchors, 56)
+                cx, cy, bw, bh = out[:, 0], out[:, 1], out[:, 2], out[:, 3]
+                xyxy = np.stack([cx - bw / 2, cy - bh / 2, cx + bw / 2, cy + bh / 2], axis=1)
+                scores, kp = out[:, 4], out[:, 5:].reshape(-1, 17, 3)
+            else:
+                xyxy, scores, kp = out[:, :4], out[:, 4], out[:, 6:].reshape(-1, 17, 3)
+        keep = scores >= self.weak_threshold
+        return xyxy[keep], scores[keep], kp[keep]
 
     def detect(self, frame_bgr: np.ndarray, frame_index: int = 0) -> list[PersonPose]:
         canvas, r, ox, oy = self._letterbox(frame_bgr, centred=self.model_format != "rtmo")
         xyxy, scores, kp = self._candidates(canvas)
-        keep = scores >= self.weak_threshold
-        xyxy, scores, kp = xyxy[keep], scores[keep], kp[keep]
         if self.flip_test:
             # the mirrored canvas's pixel column u is the canvas's column width - u: mirror the finds back, and
             # a left joint seen there is the right one
             width = canvas.shape[1]
             fx, fs, fk = self._candidates(canvas[:, ::-1])
-            keep = fs >= self.weak_threshold
-            fx, fs, fk = fx[keep], fs[keep], fk[keep][:, COCO17_MIRROR].copy()
+            fk = fk[:, COCO17_MIRROR]  # a copy (fancy indexing): the model's output is not written to
             fx = np.column_stack([width - fx[:, 2], fx[:, 1], width - fx[:, 0], fx[:, 3]])
             fk[..., 0] = width - fk[..., 0]
             xyxy, scores, kp = np.concatenate([xyxy, fx]), np.concatenate([scores, fs]), np.concatenate([kp, fk])
