@@ -7,10 +7,15 @@ at a time, so memory does not grow with the length of the video.
 Writing: :class:`VideoWriter` encodes H.264 (``libx264``, yuv420p) through PyAV, because OpenCV's headless build
 cannot encode H.264. The file is written to a temporary name beside the target and renamed on :meth:`close`,
 so an interrupted run never leaves a half-written video under the target name.
+
+FFmpeg's own log lines (e.g. ``moov atom not found`` for a file that is no video) are kept off stderr: a video that
+cannot be read gets one ``HDVRError`` line that carries libav's reason. OpenCV's FFmpeg backend is quietened
+through ``OPENCV_FFMPEG_LOGLEVEL`` (set here unless the user set it, read when the backend first opens a file).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import queue
 import threading
@@ -24,6 +29,8 @@ import numpy as np
 
 from hdvr.errors import HDVRError
 from hdvr.memory import keep_large_blocks_out_of_heap
+
+os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")  # AV_LOG_QUIET: failures reach the user as HDVRError lines
 
 VIDEO_SUFFIXES = (".mp4", ".avi", ".mov", ".webm", ".mkv", ".m4v")
 
@@ -41,6 +48,30 @@ class VideoInfo:
     def size(self) -> tuple[int, int]:
         """(width, height) in pixels."""
         return (self.width, self.height)
+
+
+@contextlib.contextmanager
+def _libav_messages_captured():
+    """Within the block, libav's log messages (errors and worse) are kept on the exceptions PyAV raises
+    (``FFmpegError.log``) instead of being printed to stderr; the previous log level is restored after."""
+    import av.logging
+
+    level = av.logging.get_level()
+    av.logging.set_level(av.logging.ERROR)
+    try:
+        with av.logging.Capture():
+            yield
+    finally:
+        av.logging.set_level(level)
+
+
+def _failure_reason(exc: Exception) -> str:
+    """Short reason for a failed open: libav's own message where it gave one (e.g. "moov atom not found"), else
+    the exception's type."""
+    log = getattr(exc, "log", None)
+    if log and len(log) == 3 and str(log[2]).strip():
+        return str(log[2]).strip()
+    return type(exc).__name__
 
 
 class VideoReader:
@@ -84,11 +115,12 @@ class VideoReader:
         import av
 
         try:
-            self._container = av.open(str(self.path))
+            with _libav_messages_captured():  # libav would print its reason as a second line; it goes into ours
+                self._container = av.open(str(self.path))
             stream = self._container.streams.video[0]
         except (av.FFmpegError, IndexError, OSError, UnicodeDecodeError) as exc:
             raise HDVRError(f"cannot read video {self.path}: not a video file or corrupt "
-                            f"({type(exc).__name__})") from None
+                            f"({_failure_reason(exc)})") from None
         stream.thread_type = "AUTO"
         self._av_frames = self._container.decode(stream)
         try:

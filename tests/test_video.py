@@ -1,3 +1,7 @@
+import os
+import subprocess
+import sys
+
 import cv2
 import numpy as np
 import pytest
@@ -123,3 +127,16 @@ def test_background_rgb_writer_matches_foreground_bgr(tmp_path):
     for x, y, src in zip(got_a, got_b, frames):
         assert np.abs(x.astype(int) - y.astype(int)).mean() < 1.0  # same up to colour-conversion rounding
         assert np.abs(y.astype(int) - src.astype(int)).mean() < 8.0  # and close to what was written
+
+
+def test_a_file_that_is_no_video_gives_one_error_line_with_libav_s_reason(tmp_path):
+    """Neither OpenCV's FFmpeg nor PyAV prints its own log line beside hdvr's error (fresh process: OpenCV reads
+    its log level once)."""
+    junk = tmp_path / "junk.mp4"
+    junk.write_text("hello\n")
+    env = {k: v for k, v in os.environ.items() if k != "OPENCV_FFMPEG_LOGLEVEL"}
+    proc = subprocess.run([sys.executable, "-m", "hdvr", "track", str(junk), "--dancers", "1", "--out",
+                           str(tmp_path / "out")], capture_output=True, text=True, env=env, timeout=120)
+    assert proc.returncode != 0
+    assert proc.stderr.strip().splitlines() == [
+        f"hdvr: error: cannot read video {junk}: not a video file or corrupt (moov atom not found)"]
