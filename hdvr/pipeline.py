@@ -7,8 +7,9 @@ Outputs in ``out_dir`` (every file written atomically; a dancer whose stage fail
 - ``dancer_<i>.bvh``: the fitted motion for Blender (Y up, centimetres)
 - ``dancer_<i>.labels.json`` and ``dancer_<i>.score.png``: body-part movements and their score (:mod:`hdvr.movements`)
 - ``dancer_<i>.3d.mp4``: the fitted dancer rendered by MuJoCo (optional)
-- ``summary.json``: per dancer, coverage, fit figures, the most frequent movement per part and the genre; the
-  video's genre (keys below)
+- ``summary.json``: per dancer, coverage, fit figures, the most frequent movement per part (``movements``), the
+  movements that take most of the clip other than keeping still (``active_movements``: ``[label, fraction of
+  frames]``, at most 4) and the genre; the video's genre (keys below)
 
 Genre (the paper's step 5, :mod:`hdvr.recognition.genre`): the genre LSTM of a recogniser checkpoint (default: the
 one shipped in ``hdvr/data/recognisers.pt``) reads each fitted dancer's movement labels. ``summary.json`` keys:
@@ -48,6 +49,7 @@ class DancerOutputs:
     render: Path | None = None
     fit: dict = field(default_factory=dict)
     movements: dict = field(default_factory=dict)
+    active_movements: list = field(default_factory=list)
     genre: dict = field(default_factory=dict)
     skipped: str | None = None
 
@@ -144,6 +146,23 @@ def dominant_movements(labels) -> dict[str, str]:
     return out
 
 
+def active_movements(labels, top: int = 4) -> list[tuple[str, float]]:
+    """The ``top`` labels other than keeping still, a relaxed foot and unknown that the dancer's body parts carry on
+    most frames, each with the fraction of the clip's frames it covers, most frequent first (``labels``:
+    hdvr.movements Labels): what a dancer does, where :func:`dominant_movements` mostly reads "Keeping Still"."""
+    ids = np.asarray(labels.ids)
+    if ids.size == 0:
+        return []
+    names = labels.taxonomy.labels
+    counts = np.bincount(ids.astype(np.int64).ravel(), minlength=len(names))
+
+    def at_rest(label) -> bool:
+        return label.kind in ("still", "unknown") or (label.kind == "state" and label.condition == "relaxed")
+
+    ranked = [int(i) for i in np.argsort(-counts, kind="stable") if counts[i] > 0 and not at_rest(names[int(i)])]
+    return [(names[i].name, round(float(counts[i]) / ids.shape[0], 3)) for i in ranked[:top]]
+
+
 def analyse_keypoints(kp_path: Path, out_dir: Path, index: int, fit_settings=None, render_size=None,
                       smoothing_s: float = PIPELINE_SMOOTHING_S, genre_recogniser=None) -> DancerOutputs:
     """3D fit, BVH, movement labels and score (and optionally a render) for one dancer's 2D keypoint file; with a
@@ -183,6 +202,7 @@ def analyse_keypoints(kp_path: Path, out_dir: Path, index: int, fit_settings=Non
     dancer.score = stem.with_suffix(".score.png")
     draw_score(labels, dancer.score, title=f"dancer {index}: movements (fitted 3D)")
     dancer.movements = dominant_movements(labels)
+    dancer.active_movements = active_movements(labels)
     if genre_recogniser is not None:
         dancer.genre = genre_recogniser.as_dict(genre_recogniser.predict_labels(labels.multi_hot(), result.fps))
     if render_size:

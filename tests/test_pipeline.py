@@ -9,6 +9,9 @@ import pytest
 from hdvr.cli import main
 from hdvr.io.bvh import read_bvh
 from hdvr.io.result3d import load_result3d
+from hdvr.movements.labeller import Labels
+from hdvr.movements.taxonomy import load_taxonomy
+from hdvr.pipeline import active_movements
 from hdvr.synth.groundtruth import clip_spec, make_clip
 
 
@@ -48,8 +51,48 @@ def test_run_on_a_synthetic_clip_with_precomputed_poses(synthetic_clip, tmp_path
     assert summary["genre"]["top"] in genres and sum(summary["genre"]["probabilities"].values()) == \
         pytest.approx(1.0, abs=1e-3)
     assert dancer["genre"]["probabilities"] == pytest.approx(summary["genre"]["probabilities"], abs=1e-3)
+    assert dancer["active_movements"] == [list(m) for m in active_movements(
+        Labels(_label_ids(labels, gt["keypoints2d"].shape[1]), 30.0, load_taxonomy()))]
     printed = capsys.readouterr().out
     assert "dancer 0: pose on" in printed and "genre of the video: " in printed
+    assert "most frequent movements: " in printed
+
+
+def _label_ids(labels_json: dict, frames: int) -> np.ndarray:
+    """(T, 16) global label ids from a labels.json's segments."""
+    taxonomy = load_taxonomy()
+    ids = np.full((frames, len(taxonomy.parts)), -1)
+    for seg in labels_json["segments"]:
+        ids[seg["start"]:seg["end"], taxonomy.part(seg["part"]).index] = seg["label_id"]
+    assert (ids >= 0).all()
+    return ids
+
+
+def test_active_movements_rank_what_the_dancer_does_over_keeping_still():
+    """Keeping still, a relaxed foot and unknown never count; the rest ranks by frames over all parts, with the
+    fraction of the clip each covers."""
+    taxonomy = load_taxonomy()
+    part = {p.name: p for p in taxonomy.parts}
+    gid = {lab.key: i for i, lab in enumerate(taxonomy.labels)}
+
+    def label(part_name: str, kind: str, **attrs) -> int:
+        lab = part[part_name].find(kind, **attrs) if attrs else part[part_name].label(kind)
+        return gid[lab.key]
+
+    arm = next(p.name for p in taxonomy.parts if any(lab.kind == "direction" for lab in p.labels))
+    arm_move = gid[next(lab for lab in part[arm].labels if lab.kind == "direction").key]
+    ids = np.empty((10, len(taxonomy.parts)), dtype=np.int16)
+    for p in taxonomy.parts:
+        ids[:, p.index] = label(p.name, "state", condition="relaxed") if p.name.endswith("foot") else \
+            label(p.name, "still")
+    ids[:6, part[arm].index] = arm_move
+    ids[:, part["left_foot"].index] = label("left_foot", "state", condition="relaxed")
+    ids[:3, part["right_foot"].index] = label("right_foot", "state", condition="extension")
+    ids[3:, part["right_foot"].index] = label("right_foot", "unknown")
+    top = active_movements(Labels(ids, 30.0, taxonomy))
+    assert top == [(taxonomy.labels[arm_move].name, 0.6), ("Right Foot Extension", 0.3)]
+    ids[:] = label("head", "still")
+    assert active_movements(Labels(ids, 30.0, taxonomy)) == []
 
 
 @pytest.mark.slow

@@ -52,10 +52,11 @@ def print_summary(result) -> None:
         if d.skipped:
             print(f"  dancer {d.index}: 3D skipped ({d.skipped})")
             continue
-        moves = ", ".join(f"{part} {label}" for part, label in list(d.movements.items())[:4])
+        moves = ", ".join(f"{label} {100 * share:.0f}%" for label, share in d.active_movements) or \
+            "every part mostly keeping still"
         print(f"  dancer {d.index}: pose on {100 * d.pose_coverage:.0f}% of frames, fit "
               f"{d.fit['frames_per_second']:.0f} frames/s, reprojection {d.fit['median_reprojection_px']:.1f} px; "
-              f"{moves} ...")
+              f"most frequent movements: {moves}")
         print(f"    {d.result3d.name}, {d.bvh.name}, {d.labels.name}, {d.score.name}"
               + (f", {d.render.name}" if d.render else ""))
         if d.genre:
