@@ -1,0 +1,107 @@
+"""``hdvr evaluate``: tracks (MOTA, IDF1, HOTA via trackeval) and 2D keypoints (PCK) against a user's ground truth."""
+
+import json
+
+import numpy as np
+import pytest
+
+from hdvr.cli import main
+from hdvr.commands.evaluate import load_boxes, score_keypoints, score_tracks
+from hdvr.errors import HDVRError
+from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
+from hdvr.layouts import BODY25_NAMES
+from hdvr.tracking.boxes import write_mot
+from hdvr.tracking.evaluation import evaluate_tracking
+
+
+def _walking_boxes(frames=40):
+    """Two dancers walking apart, (T, 2, 4) px."""
+    t = np.arange(frames, dtype=float)
+    a = np.stack([100 + 2 * t, np.full(frames, 80.0), np.full(frames, 60.0), np.full(frames, 150.0)], axis=1)
+    b = np.stack([400 - 2 * t, np.full(frames, 90.0), np.full(frames, 55.0), np.full(frames, 140.0)], axis=1)
+    return np.stack([a, b], axis=1)
+
+
+def test_tracks_with_a_swap_and_a_gap_score_as_trackeval_does(tmp_path, capsys):
+    gt = _walking_boxes()
+    tracks = gt.copy()
+    tracks[20:] = tracks[20:, ::-1]  # the two ids exchanged half-way
+    tracks[5:10, 0] = np.nan  # dancer 0 missed for 5 frames
+    tracks = tracks[:35]  # and the tracks end 5 frames early
+    write_mot(tmp_path / "gt.txt", gt)
+    out = tmp_path / "run"
+    write_mot(out / "tracks.mot.txt", tracks)
+    expected = evaluate_tracking(gt, np.concatenate([tracks, np.full((5, 2, 4), np.nan)]))
+    scores = score_tracks(tmp_path / "gt.txt", out)
+    assert scores["IDSW"] == expected.id_switches == 2
+    assert scores["IDF1"] == pytest.approx(expected.idf1) and scores["MOTA"] == pytest.approx(expected.mota)
+    assert scores["frames"] == 40 and scores["gt_ids"] == scores["tracked_ids"] == 2
+    assert scores["recall"] == pytest.approx((80 - 5 - 10) / 80)
+    assert main(["evaluate", "tracks", "--gt", str(tmp_path / "gt.txt"), "--tracks", str(out), "--json",
+                 str(tmp_path / "s.json")]) == 0
+    assert "identity switches 2" in capsys.readouterr().out
+    assert json.loads((tmp_path / "s.json").read_text())["IDSW"] == 2
+
+
+def test_ground_truth_from_an_hdvr_synth_gt_npz_or_its_folder(tmp_path):
+    gt = _walking_boxes()
+    clip = tmp_path / "clip_00000"
+    clip.mkdir()
+    np.savez(clip / "gt.npz", boxes=np.transpose(gt, (1, 0, 2)))
+    np.testing.assert_array_equal(load_boxes(clip, "ground-truth"), gt)
+    np.testing.assert_array_equal(load_boxes(clip / "gt.npz", "ground-truth"), gt)
+    write_mot(tmp_path / "tracks.txt", gt[:, ::-1])  # same boxes, other ids: a perfect run
+    scores = score_tracks(clip, tmp_path / "tracks.txt")
+    assert scores["IDF1"] == pytest.approx(1.0) and scores["MOTA"] == pytest.approx(1.0) and scores["IDSW"] == 0
+
+
+def _keypoint_file(path, keypoints):
+    save_keypoints2d(path, Keypoints2D(keypoints, BODY25_NAMES, 30.0, (640, 480)))
+
+
+def test_keypoints_pck_counts_joints_off_by_more_than_alpha_torso_diameters(tmp_path, capsys):
+    rng = np.random.default_rng(0)
+    frames = 10
+    truth = np.zeros((frames, 25, 3))
+    truth[..., 0] = 300 + rng.uniform(-40, 40, (frames, 25))
+    truth[..., 1] = 200 + rng.uniform(-80, 80, (frames, 25))
+    truth[..., 2] = 1.0
+    names = list(BODY25_NAMES)
+    truth[:, names.index("right_shoulder"), :2] = (280, 120)
+    truth[:, names.index("left_shoulder"), :2] = (320, 120)
+    truth[:, names.index("right_hip"), :2] = (285, 220)
+    truth[:, names.index("left_hip"), :2] = (315, 220)
+    torso = np.hypot(30, 100)  # shoulder to opposite hip
+    predicted = truth.copy()
+    wrist = names.index("left_wrist")
+    predicted[:, wrist, 0] += 0.3 * torso  # beyond 0.2 torso: wrong
+    predicted[:, names.index("nose"), 0] += 0.1 * torso  # within: right
+    predicted[:5, names.index("left_ankle")] = np.nan  # missing in the prediction: wrong
+    _keypoint_file(tmp_path / "gt.npz", truth)
+    _keypoint_file(tmp_path / "pred.npz", predicted)
+    scores = score_keypoints(tmp_path / "gt.npz", tmp_path / "pred.npz")
+    assert scores["pck"] == pytest.approx(1 - (frames + 5) / (frames * 25))
+    assert scores["per_joint"]["left_wrist"] == 0.0 and scores["per_joint"]["nose"] == 1.0
+    assert scores["per_joint"]["left_ankle"] == pytest.approx(0.5)
+    coco = score_keypoints(tmp_path / "gt.npz", tmp_path / "pred.npz", detector_joints=True)
+    assert "left_big_toe" not in coco["per_joint"] and len(coco["per_joint"]) == 19
+    assert main(["evaluate", "keypoints", "--gt", str(tmp_path / "gt.npz"), "--pred",
+                 str(tmp_path / "pred.npz")]) == 0
+    assert "weakest joints: left_wrist 0.00, left_ankle 0.50" in capsys.readouterr().out
+
+
+def test_bad_input_is_one_error_line(tmp_path, capsys):
+    write_mot(tmp_path / "gt.txt", _walking_boxes())
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(HDVRError, match="neither tracks.mot.txt"):
+        load_boxes(tmp_path / "empty", "tracks")
+    with pytest.raises(HDVRError, match="--iou"):
+        score_tracks(tmp_path / "gt.txt", tmp_path / "gt.txt", iou_threshold=1.5)
+    assert main(["evaluate", "tracks", "--gt", str(tmp_path / "gt.txt"), "--tracks",
+                 str(tmp_path / "missing.txt")]) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [
+        f"hdvr: error: tracks file not found: {tmp_path / 'missing.txt'}"]
+    _keypoint_file(tmp_path / "a.npz", np.ones((5, 25, 3)))
+    _keypoint_file(tmp_path / "b.npz", np.ones((6, 25, 3)))
+    with pytest.raises(HDVRError, match="6 frames, the ground truth .* 5"):
+        score_keypoints(tmp_path / "a.npz", tmp_path / "b.npz")
