@@ -75,19 +75,17 @@ def n_mpjpe(pred: np.ndarray, gt: np.ndarray) -> float:
 
 
 def mpjve(pred: np.ndarray, gt: np.ndarray) -> float:
-    """Mean per-joint velocity error (mm per frame)."""
+    """Mean per-joint velocity error (mm per frame). Differences touching a NaN frame (left out) do not count."""
     p, g = _check(pred, gt)
-    if len(p) < 2:
-        return float("nan")
-    return float(np.mean(np.linalg.norm(np.diff(p, axis=0) - np.diff(g, axis=0), axis=-1)) * MM)
+    err = np.linalg.norm(np.diff(p, axis=0) - np.diff(g, axis=0), axis=-1)
+    return float(np.nanmean(err) * MM) if np.isfinite(err).any() else float("nan")
 
 
 def acceleration_error(pred: np.ndarray, gt: np.ndarray) -> float:
-    """Mean per-joint acceleration error (mm per frame^2)."""
+    """Mean per-joint acceleration error (mm per frame^2). Differences touching a NaN frame do not count."""
     p, g = _check(pred, gt)
-    if len(p) < 3:
-        return float("nan")
-    return float(np.mean(np.linalg.norm(np.diff(p, 2, axis=0) - np.diff(g, 2, axis=0), axis=-1)) * MM)
+    err = np.linalg.norm(np.diff(p, 2, axis=0) - np.diff(g, 2, axis=0), axis=-1)
+    return float(np.nanmean(err) * MM) if np.isfinite(err).any() else float("nan")
 
 
 def root_relative(body25: np.ndarray) -> np.ndarray:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from hdvr.cli import main
-from hdvr.commands.evaluate import load_boxes, score_keypoints, score_tracks
+from hdvr.commands.evaluate import load_boxes, score_keypoints, score_pose3d, score_tracks
 from hdvr.errors import HDVRError
 from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
 from hdvr.layouts import BODY25_NAMES
@@ -105,3 +105,39 @@ def test_bad_input_is_one_error_line(tmp_path, capsys):
     _keypoint_file(tmp_path / "b.npz", np.ones((6, 25, 3)))
     with pytest.raises(HDVRError, match="6 frames, the ground truth .* 5"):
         score_keypoints(tmp_path / "a.npz", tmp_path / "b.npz")
+
+
+def _synth_gt(path, keypoints3d):
+    """A minimal hdvr synth gt.npz: ``keypoints3d_camera`` (dancers, T, 25, 3) m."""
+    np.savez(path, keypoints3d_camera=keypoints3d)
+
+
+def test_pose3d_scores_root_relative_and_after_alignment_and_skips_missing_frames(tmp_path, capsys):
+    from hdvr.layouts import EVAL_JOINTS
+
+    rng = np.random.default_rng(1)
+    frames = 12
+    truth = rng.normal(0, 0.3, (2, frames, 25, 3)) + np.array([0.0, 0.0, 4.0])
+    _synth_gt(tmp_path / "gt.npz", truth)
+    names = list(BODY25_NAMES)
+    moved = truth[1:2].copy() + np.array([0.5, -0.2, 1.0])  # dancer 1, translated: nothing changes root-relative
+    wrist = names.index("left_wrist")
+    moved[0, :, wrist, 0] += 0.1  # one of the evaluated joints 10 cm off on every frame
+    _synth_gt(tmp_path / "pred.npz", moved)
+    scores = score_pose3d(tmp_path / "gt.npz", tmp_path / "pred.npz", dancer=1)
+    assert scores["mpjpe_mm"] == pytest.approx(100.0 / len(EVAL_JOINTS), abs=0.01)
+    assert scores["mpjve_mm"] == pytest.approx(0.0, abs=0.01) and scores["frames_left_out"] == 0
+    assert 0 < scores["p_mpjpe_mm"] < 100.0  # after per-frame similarity alignment the error spreads over joints
+    moved[0, 5] = np.nan  # a frame without a pose: left out, and no velocity across it
+    moved[0, 6, wrist, 0] += 0.2
+    _synth_gt(tmp_path / "pred.npz", moved)
+    scores = score_pose3d(tmp_path / "gt.npz", tmp_path / "pred.npz", dancer=1)
+    assert scores["frames"] == frames - 1 and scores["frames_left_out"] == 1
+    # velocity error: 0.2 m on the wrist in the pair (6, 7) only; (4, 5) and (5, 6) touch the gap: 9 of 11 count
+    assert scores["mpjve_mm"] == pytest.approx(200.0 / len(EVAL_JOINTS) / 9, abs=0.01)
+    assert main(["evaluate", "pose3d", "--gt", str(tmp_path / "gt.npz"), "--pred", str(tmp_path / "pred.npz"),
+                 "--dancer", "1"]) == 0
+    assert "1 without a full pose left out" in capsys.readouterr().out
+    assert main(["evaluate", "pose3d", "--gt", str(tmp_path / "gt.npz"), "--pred", str(tmp_path / "pred.npz"),
+                 "--dancer", "2"]) == 2
+    assert "2 dancers; --dancer 2 does not exist" in capsys.readouterr().err

@@ -6,6 +6,11 @@ computed by ``trackeval``) of tracked boxes against ground-truth boxes. Either s
 annotation tools export), an ``hdvr track`` output folder, or (ground truth only) an ``hdvr synth`` clip's
 ``gt.npz`` or its folder. Ids need not correspond: the metrics find the best association themselves.
 
+``hdvr evaluate pose3d``: MPJPE, P-MPJPE, N-MPJPE, velocity and acceleration errors (mm, VideoPose3D's definitions,
+:mod:`hdvr.metrics`, on :data:`hdvr.layouts.EVAL_JOINTS`, root-relative) of a 3D result NPZ (``hdvr fit3d``,
+``hdvr lift apply``, ``hdvr run``) against an ``hdvr synth`` clip's ``gt.npz`` (camera-frame keypoints of one
+dancer) or another 3D result, frame by frame; frames either side lacks are left out and counted.
+
 ``hdvr evaluate keypoints``: PCK@alpha (a joint is right within alpha x the torso diameter of the truth) of a 2D
 keypoint NPZ (``hdvr track``'s ``dancer_<i>.npz``) against a ground-truth one in the same format; joints the truth
 lacks do not count, joints the prediction lacks count as wrong.
@@ -88,9 +93,50 @@ def score_keypoints(gt_path, predicted_path, alpha: float = 0.2, detector_joints
             "per_joint": {k: v for k, v in per_joint.items() if np.isfinite(v)}}
 
 
+def load_pose3d(path, dancer: int, what: str) -> np.ndarray:
+    """(T, 25, 3) BODY_25 camera-frame keypoints, metres, from an ``hdvr synth`` ``gt.npz`` (``keypoints3d_camera``
+    of ``dancer``) or a 3D result NPZ (``keypoints3d``). ``what`` names the side in errors."""
+    from hdvr.io.npz import open_npz
+
+    p = Path(path)
+    data = open_npz(p, (), what)
+    if "keypoints3d_camera" in data.files:
+        kp = np.asarray(data["keypoints3d_camera"], float)
+        if kp.ndim != 4 or kp.shape[2:] != (25, 3):
+            raise HDVRError(f"{p}: 'keypoints3d_camera' must be (dancers, frames, 25, 3), got {kp.shape}")
+        if not 0 <= dancer < kp.shape[0]:
+            raise HDVRError(f"{p} has {kp.shape[0]} dancers; --dancer {dancer} does not exist")
+        return kp[dancer]
+    from hdvr.io.result3d import load_result3d
+
+    return np.asarray(load_result3d(p).keypoints3d, float)
+
+
+def score_pose3d(gt_path, predicted_path, dancer: int = 0) -> dict:
+    """3D metrics (mm, :func:`hdvr.metrics.evaluate`) of the 3D result ``predicted_path`` against ``gt_path``
+    (:func:`load_pose3d`) on the frames both have in full; ``frames`` scored and ``frames_left_out``."""
+    from hdvr.metrics import acceleration_error, evaluate, mpjve, root_relative
+
+    truth = load_pose3d(gt_path, dancer, "ground-truth 3D")
+    predicted = load_pose3d(predicted_path, 0, "3D result")
+    if truth.shape[0] != predicted.shape[0]:
+        raise HDVRError(f"{predicted_path} has {predicted.shape[0]} frames, the ground truth {gt_path} "
+                        f"{truth.shape[0]}: score 3D poses of the same video")
+    both = np.isfinite(truth).all(axis=(1, 2)) & np.isfinite(predicted).all(axis=(1, 2))
+    if not both.any():
+        raise HDVRError(f"no frame has a full pose in both {gt_path} and {predicted_path}")
+    scores = evaluate(predicted[both], truth[both])
+    if not both.all():  # velocity and acceleration only across frames that follow each other
+        gap = np.where(both[:, None, None], 0.0, np.nan)
+        p, g = root_relative(predicted + gap), root_relative(truth + gap)
+        scores.update(mpjve_mm=mpjve(p, g), accel_error_mm=acceleration_error(p, g))
+    scores = {k: round(v, 2) for k, v in scores.items()}
+    return dict(scores, frames=int(both.sum()), frames_left_out=int((~both).sum()))
+
+
 def register(subparsers) -> None:
-    p = subparsers.add_parser("evaluate", help="score tracks (MOTA, IDF1, HOTA) or 2D keypoints (PCK) against "
-                                               "ground truth",
+    p = subparsers.add_parser("evaluate", help="score tracks (MOTA, IDF1, HOTA), 2D keypoints (PCK) or 3D poses "
+                                               "(MPJPE) against ground truth",
                               description="Score hdvr's outputs against your own ground truth.")
     sub = p.add_subparsers(dest="what", metavar="WHAT")
     t = sub.add_parser("tracks", help="MOTA, IDF1, HOTA, identity switches of tracked boxes",
@@ -112,6 +158,15 @@ def register(subparsers) -> None:
                    help="score only the 19 joints a COCO-17 detector gives (no feet)")
     k.add_argument("--json", help="also write the scores to this JSON file")
     k.set_defaults(func=_keypoints)
+    d = sub.add_parser("pose3d", help="MPJPE, P-MPJPE of a fitted or lifted 3D pose",
+                       description="MPJPE, P-MPJPE, N-MPJPE, velocity and acceleration errors (mm, root-relative, "
+                                   "VideoPose3D's definitions) of a 3D result NPZ against an hdvr synth gt.npz or "
+                                   "another 3D result of the same frames.")
+    d.add_argument("--gt", required=True, help="hdvr synth gt.npz or a 3D result NPZ")
+    d.add_argument("--pred", required=True, help="3D result NPZ (hdvr fit3d, lift apply, run)")
+    d.add_argument("--dancer", type=int, default=0, help="dancer index in a synthetic gt.npz")
+    d.add_argument("--json", help="also write the scores to this JSON file")
+    d.set_defaults(func=_pose3d)
     p.set_defaults(func=lambda args: p.print_help() or 0)
 
 
@@ -136,6 +191,17 @@ def _keypoints(args) -> int:
     worst = sorted(s["per_joint"].items(), key=lambda kv: kv[1])[:3]
     print(f"PCK@{args.alpha:g} {s['pck']:.3f} over {s['frames']} frames; weakest joints: "
           + ", ".join(f"{name} {v:.2f}" for name, v in worst))
+    if args.json:
+        _write_json(args.json, s)
+    return 0
+
+
+def _pose3d(args) -> int:
+    s = score_pose3d(args.gt, args.pred, args.dancer)
+    print(f"MPJPE {s['mpjpe_mm']:.1f} mm  P-MPJPE {s['p_mpjpe_mm']:.1f} mm  N-MPJPE {s['n_mpjpe_mm']:.1f} mm  "
+          f"velocity {s['mpjve_mm']:.1f} mm/frame  acceleration {s['accel_error_mm']:.1f} mm/frame^2  "
+          f"({s['frames']} frames" + (f", {s['frames_left_out']} without a full pose left out)"
+                                      if s["frames_left_out"] else ")"))
     if args.json:
         _write_json(args.json, s)
     return 0
