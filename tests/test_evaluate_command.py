@@ -141,3 +141,19 @@ def test_pose3d_scores_root_relative_and_after_alignment_and_skips_missing_frame
     assert main(["evaluate", "pose3d", "--gt", str(tmp_path / "gt.npz"), "--pred", str(tmp_path / "pred.npz"),
                  "--dancer", "2"]) == 2
     assert "2 dancers; --dancer 2 does not exist" in capsys.readouterr().err
+
+
+def test_ground_truth_rows_marked_ignored_are_left_out(tmp_path):
+    """MOT challenge / CVAT ground truth: frame,id,x,y,w,h,consider,class,visibility; consider 0 = ignored box."""
+    gt = _walking_boxes(10)
+    rows = [f"{t + 1},{i + 1},{b[0]},{b[1]},{b[2]},{b[3]},1,1,1.0" for t in range(10) for i, b in enumerate(gt[t])]
+    rows.append("3,3,10,10,20,40,0,8,0.5")  # a distractor the annotator marked ignored
+    (tmp_path / "gt.txt").write_text("\n".join(rows) + "\n")
+    loaded = load_boxes(tmp_path / "gt.txt", "ground-truth")
+    assert loaded.shape == (10, 2, 4)
+    np.testing.assert_allclose(loaded, gt)
+    write_mot(tmp_path / "tracks.txt", gt)
+    assert score_tracks(tmp_path / "gt.txt", tmp_path / "tracks.txt")["precision"] == pytest.approx(1.0)
+    # in tracks the 7th column is a confidence: a box written with confidence 0 stays
+    (tmp_path / "t0.txt").write_text("1,1,10,10,20,40,0.000,-1,-1,-1\n2,1,12,10,20,40,1.000,-1,-1,-1\n")
+    assert np.isfinite(load_boxes(tmp_path / "t0.txt", "tracks")).all()

@@ -3,8 +3,9 @@
 ``hdvr evaluate tracks``: MOTA, IDF1, HOTA, identity switches, recall and precision (:mod:`hdvr.tracking.evaluation`,
 computed by ``trackeval``) of tracked boxes against ground-truth boxes. Either side is MOT challenge text
 (``frame,id,x,y,w,h,...``, 1-based frame and id, pixels: what ``hdvr track`` writes as ``tracks.mot.txt`` and what
-annotation tools export), an ``hdvr track`` output folder, or (ground truth only) an ``hdvr synth`` clip's
-``gt.npz`` or its folder. Ids need not correspond: the metrics find the best association themselves.
+annotation tools export; in ground truth, rows whose 7th column, the consider flag, is 0 are ignored boxes and
+left out), an ``hdvr track`` output folder, or (ground truth only) an ``hdvr synth`` clip's ``gt.npz`` or its
+folder. Ids need not correspond: the metrics find the best association themselves.
 
 ``hdvr evaluate pose3d``: MPJPE, P-MPJPE, N-MPJPE, velocity and acceleration errors (mm, VideoPose3D's definitions,
 :mod:`hdvr.metrics`, on :data:`hdvr.layouts.EVAL_JOINTS`, root-relative) of a 3D result NPZ (``hdvr fit3d``,
@@ -48,7 +49,7 @@ def load_boxes(path: str | Path, what: str) -> np.ndarray:
         if boxes.ndim != 3 or boxes.shape[-1] != 4:
             raise HDVRError(f"{p}: 'boxes' must be (dancers, frames, 4), got {boxes.shape}")
         return np.transpose(boxes, (1, 0, 2))
-    return read_mot(p)
+    return read_mot(p, ground_truth=what == "ground-truth")
 
 
 def _pad_frames(boxes: np.ndarray, frames: int) -> np.ndarray:

@@ -130,17 +130,30 @@ def write_mot(path: str | os.PathLike, tracks: np.ndarray, confidence: np.ndarra
     write_text_atomic(path, "\n".join(lines) + ("\n" if lines else ""))
 
 
-def read_mot(path: str | os.PathLike, num_frames: int | None = None) -> np.ndarray:
-    """MOT text -> (T, N, 4) with N = the largest id and T = the last frame (or ``num_frames``)."""
+def read_mot(path: str | os.PathLike, num_frames: int | None = None, ground_truth: bool = False) -> np.ndarray:
+    """MOT text -> (T, N, 4) with N = the largest id and T = the last frame (or ``num_frames``).
+
+    ``ground_truth``: the 7th column is the MOT challenge's (and CVAT's MOT export's) consider flag, not a
+    confidence: where every row has 0 or 1 there, the rows marked 0 (ignored boxes) are dropped."""
     p = Path(path)
     if not p.is_file():
         raise HDVRError(f"MOT file not found: {p}")
     try:
-        data = np.loadtxt(p, delimiter=",", ndmin=2, usecols=range(6))
-    except ValueError:
-        raise HDVRError(f"cannot read MOT text {p}: expected lines frame,id,x,y,w,h,...") from None
+        data = np.loadtxt(p, delimiter=",", ndmin=2)
+    except ValueError:  # rows of different lengths: the six box columns are all that is needed
+        try:
+            data = np.loadtxt(p, delimiter=",", ndmin=2, usecols=range(6))
+        except ValueError:
+            raise HDVRError(f"cannot read MOT text {p}: expected lines frame,id,x,y,w,h,...") from None
     if data.size == 0:
         raise HDVRError(f"MOT file {p} has no boxes")
+    if data.shape[1] < 6:
+        raise HDVRError(f"cannot read MOT text {p}: expected lines frame,id,x,y,w,h,... (got {data.shape[1]} "
+                        f"columns)")
+    if ground_truth and data.shape[1] >= 7 and np.isin(data[:, 6], (0, 1)).all():
+        data = data[data[:, 6] == 1]
+        if not len(data):
+            raise HDVRError(f"MOT file {p} marks every box as ignored (7th column 0)")
     frames = data[:, 0].astype(int)
     ids = data[:, 1].astype(int)
     if frames.min() < 1 or ids.min() < 1:
