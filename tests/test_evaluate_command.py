@@ -48,8 +48,8 @@ def test_ground_truth_from_an_hdvr_synth_gt_npz_or_its_folder(tmp_path):
     clip = tmp_path / "clip_00000"
     clip.mkdir()
     np.savez(clip / "gt.npz", boxes=np.transpose(gt, (1, 0, 2)))
-    np.testing.assert_array_equal(load_boxes(clip, "ground-truth"), gt)
-    np.testing.assert_array_equal(load_boxes(clip / "gt.npz", "ground-truth"), gt)
+    np.testing.assert_array_equal(load_boxes(clip, ground_truth=True), gt)
+    np.testing.assert_array_equal(load_boxes(clip / "gt.npz", ground_truth=True), gt)
     write_mot(tmp_path / "tracks.txt", gt[:, ::-1])  # same boxes, other ids: a perfect run
     scores = score_tracks(clip, tmp_path / "tracks.txt")
     assert scores["IDF1"] == pytest.approx(1.0) and scores["MOTA"] == pytest.approx(1.0) and scores["IDSW"] == 0
@@ -94,7 +94,7 @@ def test_bad_input_is_one_error_line(tmp_path, capsys):
     write_mot(tmp_path / "gt.txt", _walking_boxes())
     (tmp_path / "empty").mkdir()
     with pytest.raises(HDVRError, match="neither tracks.mot.txt"):
-        load_boxes(tmp_path / "empty", "tracks")
+        load_boxes(tmp_path / "empty", ground_truth=False)
     with pytest.raises(HDVRError, match="--iou"):
         score_tracks(tmp_path / "gt.txt", tmp_path / "gt.txt", iou_threshold=1.5)
     assert main(["evaluate", "tracks", "--gt", str(tmp_path / "gt.txt"), "--tracks",
@@ -149,11 +149,11 @@ def test_ground_truth_rows_marked_ignored_are_left_out(tmp_path):
     rows = [f"{t + 1},{i + 1},{b[0]},{b[1]},{b[2]},{b[3]},1,1,1.0" for t in range(10) for i, b in enumerate(gt[t])]
     rows.append("3,3,10,10,20,40,0,8,0.5")  # a distractor the annotator marked ignored
     (tmp_path / "gt.txt").write_text("\n".join(rows) + "\n")
-    loaded = load_boxes(tmp_path / "gt.txt", "ground-truth")
+    loaded = load_boxes(tmp_path / "gt.txt", ground_truth=True)
     assert loaded.shape == (10, 2, 4)
     np.testing.assert_allclose(loaded, gt)
     write_mot(tmp_path / "tracks.txt", gt)
     assert score_tracks(tmp_path / "gt.txt", tmp_path / "tracks.txt")["precision"] == pytest.approx(1.0)
     # in tracks the 7th column is a confidence: a box written with confidence 0 stays
     (tmp_path / "t0.txt").write_text("1,1,10,10,20,40,0.000,-1,-1,-1\n2,1,12,10,20,40,1.000,-1,-1,-1\n")
-    assert np.isfinite(load_boxes(tmp_path / "t0.txt", "tracks")).all()
+    assert np.isfinite(load_boxes(tmp_path / "t0.txt", ground_truth=False)).all()

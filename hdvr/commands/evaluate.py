@@ -1,4 +1,4 @@
-"""``hdvr evaluate``: score tracks and 2D keypoints against a user's ground truth.
+"""``hdvr evaluate``: score tracks, 2D keypoints and 3D poses against a user's ground truth.
 
 ``hdvr evaluate tracks``: MOTA, IDF1, HOTA, identity switches, recall and precision (:mod:`hdvr.tracking.evaluation`,
 computed by ``trackeval``) of tracked boxes against ground-truth boxes. Either side is MOT challenge text
@@ -7,14 +7,14 @@ annotation tools export; in ground truth, rows whose 7th column, the consider fl
 left out), an ``hdvr track`` output folder, or (ground truth only) an ``hdvr synth`` clip's ``gt.npz`` or its
 folder. Ids need not correspond: the metrics find the best association themselves.
 
+``hdvr evaluate keypoints``: PCK@alpha (a joint is right within alpha x the torso diameter of the truth) of a 2D
+keypoint NPZ (``hdvr track``'s ``dancer_<i>.npz``) against a ground-truth one in the same format; joints the truth
+lacks do not count, joints the prediction lacks count as wrong.
+
 ``hdvr evaluate pose3d``: MPJPE, P-MPJPE, N-MPJPE, velocity and acceleration errors (mm, VideoPose3D's definitions,
 :mod:`hdvr.metrics`, on :data:`hdvr.layouts.EVAL_JOINTS`, root-relative) of a 3D result NPZ (``hdvr fit3d``,
 ``hdvr lift apply``, ``hdvr run``) against an ``hdvr synth`` clip's ``gt.npz`` (camera-frame keypoints of one
 dancer) or another 3D result, frame by frame; frames either side lacks are left out and counted.
-
-``hdvr evaluate keypoints``: PCK@alpha (a joint is right within alpha x the torso diameter of the truth) of a 2D
-keypoint NPZ (``hdvr track``'s ``dancer_<i>.npz``) against a ground-truth one in the same format; joints the truth
-lacks do not count, joints the prediction lacks count as wrong.
 """
 
 from __future__ import annotations
@@ -27,11 +27,13 @@ import numpy as np
 from hdvr.errors import HDVRError
 
 
-def load_boxes(path: str | Path, what: str) -> np.ndarray:
+def load_boxes(path: str | Path, ground_truth: bool) -> np.ndarray:
     """(T, N, 4) boxes x, y, w, h px (NaN where absent) from MOT text, an ``hdvr track`` output folder (its
-    ``tracks.mot.txt``), or an ``hdvr synth`` ``gt.npz`` / clip folder. ``what`` names the side in errors."""
+    ``tracks.mot.txt``), or an ``hdvr synth`` ``gt.npz`` / clip folder. ``ground_truth``: MOT rows marked ignored
+    are left out (:func:`hdvr.tracking.boxes.read_mot`); it also names the side in errors."""
     from hdvr.tracking.boxes import read_mot
 
+    what = "ground-truth" if ground_truth else "tracks"
     p = Path(path)
     if p.is_dir():
         if (p / "tracks.mot.txt").is_file():
@@ -49,7 +51,7 @@ def load_boxes(path: str | Path, what: str) -> np.ndarray:
         if boxes.ndim != 3 or boxes.shape[-1] != 4:
             raise HDVRError(f"{p}: 'boxes' must be (dancers, frames, 4), got {boxes.shape}")
         return np.transpose(boxes, (1, 0, 2))
-    return read_mot(p, ground_truth=what == "ground-truth")
+    return read_mot(p, ground_truth=ground_truth)
 
 
 def _pad_frames(boxes: np.ndarray, frames: int) -> np.ndarray:
@@ -65,8 +67,8 @@ def score_tracks(gt_path, tracks_path, iou_threshold: float = 0.5) -> dict:
 
     if not 0 < iou_threshold < 1:
         raise HDVRError(f"--iou must be between 0 and 1, got {iou_threshold}")
-    gt = load_boxes(gt_path, "ground-truth")
-    tracks = load_boxes(tracks_path, "tracks")
+    gt = load_boxes(gt_path, ground_truth=True)
+    tracks = load_boxes(tracks_path, ground_truth=False)
     frames = max(gt.shape[0], tracks.shape[0])
     scores = evaluate_tracking(_pad_frames(gt, frames), _pad_frames(tracks, frames), iou_threshold)
     return dict(scores.as_dict(), gt_ids=int(gt.shape[1]), tracked_ids=int(tracks.shape[1]))
