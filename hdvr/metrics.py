@@ -97,8 +97,21 @@ def root_relative(body25: np.ndarray) -> np.ndarray:
     return x[:, BODY25.indices(EVAL_JOINTS)] - root
 
 
+def scored_frames(pred_body25: np.ndarray, gt_body25: np.ndarray) -> np.ndarray:
+    """(T,) bool: the frames :func:`evaluate` scores, where both BODY_25 (T, 25, 3) poses have every one of
+    :data:`EVAL_JOINTS` and the root (a frame without a pose is NaN, e.g. one the 3D fit had no 2D keypoints for)."""
+    return np.isfinite(root_relative(pred_body25)).all(axis=(1, 2)) & \
+        np.isfinite(root_relative(gt_body25)).all(axis=(1, 2))
+
+
 def evaluate(pred_body25: np.ndarray, gt_body25: np.ndarray) -> dict[str, float]:
-    """All metrics (mm) on :data:`EVAL_JOINTS`, root-relative, for BODY_25 (T, 25, 3) metres in one frame."""
+    """All metrics (mm) on :data:`EVAL_JOINTS`, root-relative, for BODY_25 (T, 25, 3) metres in one frame.
+
+    Frames left out by :func:`scored_frames` count in no per-frame metric, and velocity and acceleration errors
+    only span frames that both are scored."""
     p, g = root_relative(pred_body25), root_relative(gt_body25)
-    return {"mpjpe_mm": mpjpe(p, g), "p_mpjpe_mm": p_mpjpe(p, g), "n_mpjpe_mm": n_mpjpe(p, g),
-            "mpjve_mm": mpjve(p, g), "accel_error_mm": acceleration_error(p, g)}
+    scored = scored_frames(pred_body25, gt_body25)
+    gap = np.where(scored[:, None, None], 0.0, np.nan)
+    ps, gs = p[scored], g[scored]
+    return {"mpjpe_mm": mpjpe(ps, gs), "p_mpjpe_mm": p_mpjpe(ps, gs), "n_mpjpe_mm": n_mpjpe(ps, gs),
+            "mpjve_mm": mpjve(p + gap, g + gap), "accel_error_mm": acceleration_error(p + gap, g + gap)}

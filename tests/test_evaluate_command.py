@@ -1,4 +1,5 @@
-"""``hdvr evaluate``: tracks (MOTA, IDF1, HOTA via trackeval) and 2D keypoints (PCK) against a user's ground truth."""
+"""``hdvr evaluate``: tracks (MOTA, IDF1, HOTA via trackeval), 2D keypoints (PCK) and 3D poses (MPJPE) against a
+user's ground truth."""
 
 import json
 

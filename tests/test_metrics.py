@@ -61,3 +61,22 @@ def test_evaluate_uses_eval_joints_root_relative():
 def test_shape_mismatch_is_one_line_error():
     with pytest.raises(HDVRError):
         metrics.mpjpe(np.zeros((2, 3, 3)), np.zeros((2, 4, 3)))
+
+
+def test_frames_without_a_pose_are_left_out_and_no_velocity_spans_them():
+    rng = np.random.default_rng(3)
+    gt = rng.normal(0, 0.3, (8, 25, 3))
+    pred = gt + rng.normal(0, 0.02, gt.shape)
+    pred[3] = np.nan
+    scored = metrics.scored_frames(pred, gt)
+    assert scored.tolist() == [True] * 3 + [False] + [True] * 4
+    full = metrics.evaluate(pred, gt)
+    kept = metrics.evaluate(pred[scored], gt[scored])
+    for key in ("mpjpe_mm", "p_mpjpe_mm", "n_mpjpe_mm"):
+        assert full[key] == pytest.approx(kept[key])
+    # velocity: the 5 pairs of neighbouring scored frames, not the pair (2, 4) that dropping frame 3 would make
+    assert full["mpjve_mm"] != pytest.approx(kept["mpjve_mm"])
+    pairs = [(t, t + 1) for t in range(7) if scored[t] and scored[t + 1]]
+    p, g = metrics.root_relative(pred), metrics.root_relative(gt)
+    expected = np.mean([np.linalg.norm((p[b] - p[a]) - (g[b] - g[a]), axis=-1).mean() for a, b in pairs]) * 1000
+    assert full["mpjve_mm"] == pytest.approx(expected)

@@ -14,7 +14,8 @@ lacks do not count, joints the prediction lacks count as wrong.
 ``hdvr evaluate pose3d``: MPJPE, P-MPJPE, N-MPJPE, velocity and acceleration errors (mm, VideoPose3D's definitions,
 :mod:`hdvr.metrics`, on :data:`hdvr.layouts.EVAL_JOINTS`, root-relative) of a 3D result NPZ (``hdvr fit3d``,
 ``hdvr lift apply``, ``hdvr run``) against an ``hdvr synth`` clip's ``gt.npz`` (camera-frame keypoints of one
-dancer) or another 3D result, frame by frame; frames either side lacks are left out and counted.
+dancer) or another 3D result, frame by frame; frames either side lacks (:func:`hdvr.metrics.scored_frames`) are
+left out and counted.
 """
 
 from __future__ import annotations
@@ -117,24 +118,20 @@ def load_pose3d(path, dancer: int, what: str) -> np.ndarray:
 
 def score_pose3d(gt_path, predicted_path, dancer: int = 0) -> dict:
     """3D metrics (mm, :func:`hdvr.metrics.evaluate`) of the 3D result ``predicted_path`` against ``gt_path``
-    (:func:`load_pose3d`) on the frames both have in full; ``frames`` scored and ``frames_left_out``."""
-    from hdvr.metrics import acceleration_error, evaluate, mpjve, root_relative
+    (:func:`load_pose3d`) on the frames both have (:func:`hdvr.metrics.scored_frames`); ``frames`` scored and
+    ``frames_left_out``."""
+    from hdvr.metrics import evaluate, scored_frames
 
     truth = load_pose3d(gt_path, dancer, "ground-truth 3D")
     predicted = load_pose3d(predicted_path, 0, "3D result")
     if truth.shape[0] != predicted.shape[0]:
         raise HDVRError(f"{predicted_path} has {predicted.shape[0]} frames, the ground truth {gt_path} "
                         f"{truth.shape[0]}: score 3D poses of the same video")
-    both = np.isfinite(truth).all(axis=(1, 2)) & np.isfinite(predicted).all(axis=(1, 2))
-    if not both.any():
+    scored = scored_frames(predicted, truth)
+    if not scored.any():
         raise HDVRError(f"no frame has a full pose in both {gt_path} and {predicted_path}")
-    scores = evaluate(predicted[both], truth[both])
-    if not both.all():  # velocity and acceleration only across frames that follow each other
-        gap = np.where(both[:, None, None], 0.0, np.nan)
-        p, g = root_relative(predicted + gap), root_relative(truth + gap)
-        scores.update(mpjve_mm=mpjve(p, g), accel_error_mm=acceleration_error(p, g))
-    scores = {k: round(v, 2) for k, v in scores.items()}
-    return dict(scores, frames=int(both.sum()), frames_left_out=int((~both).sum()))
+    scores = {k: round(v, 2) for k, v in evaluate(predicted, truth).items()}
+    return dict(scores, frames=int(scored.sum()), frames_left_out=int((~scored).sum()))
 
 
 def register(subparsers) -> None:
