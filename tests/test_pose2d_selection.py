@@ -43,3 +43,21 @@ def test_pose_histogram_and_no_candidate(tmp_path):
     selector = PoseSelector(1)
     assert selector.select(frame, [(5, 5, 10, 10)], poses) == [None]  # no pose overlaps that box
     assert selector.select(frame, [(5, 5, 10, 10)], []) == [None]
+
+
+def test_a_dancer_waiting_behind_another_gives_way_to_it(tmp_path):
+    """``yields[i, j]``: dancer j (waiting hidden behind dancer i, with i's colours as its memory) cannot take a pose
+    whose box overlaps i's box about as much as its own; one that fits j's box clearly better stays j's."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=2, specs=default_crossing_specs(num_figures=2, seed=0))
+    frame = next(iter(VideoReader(tmp_path / "clip.mp4")))
+    pose = PersonPose(truth.keypoints[0, 0], box_from_keypoints(truth.keypoints[0, 0]), 0.9, BODY25_NAMES)
+    x, y, w, h = pose.box
+    waits_behind = np.array([[False, False], [True, False]])  # [1, 0]: dancer 0 waits behind dancer 1
+    # the boxes nearly coincide (IoU with the pose's box 1.0 and 0.92): the waiting dancer's fits a little better
+    boxes = [pose.box, (x + 0.04 * w, y, w, h)]
+    assert PoseSelector(2).select(frame, boxes, [pose]) == [pose, None]
+    assert PoseSelector(2).select(frame, boxes, [pose], yields=waits_behind) == [None, pose]
+    # the front dancer's box is well off the pose (IoU 0.54): the pose is the waiting dancer's
+    boxes = [pose.box, (x + 0.3 * w, y, w, h)]
+    assert PoseSelector(2).select(frame, boxes, [pose], yields=waits_behind) == [pose, None]
+    assert PoseSelector(2).select(frame, boxes[::-1], [pose], yields=waits_behind.T) == [None, pose]

@@ -696,6 +696,11 @@ def test_hiding_dancer_names_the_dancer_in_front():
     assert not beside.not_pose_rivals().any()
     off = MultiDancerTracker(frame, [behind, front], MultiTrackerConfig(waiting_not_rival=False))
     assert not off.not_pose_rivals().any()
+    # ... and gives way to dancer 1 for a pose both could take (Algorithm 2*'s ``yields``)
+    np.testing.assert_array_equal(tracker.pose_yields(), [[False, False], [True, False]])
+    assert not beside.pose_yields().any()
+    assert not MultiDancerTracker(frame, [behind, front], MultiTrackerConfig(waiting_yields_pose=False)) \
+        .pose_yields().any()
 
 
 def test_dancer_starting_behind_another_that_the_detector_finds_there_does_not_wait():

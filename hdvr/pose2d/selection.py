@@ -59,6 +59,8 @@ class SelectionConfig:
     min_overlap: float = 0.3  # intersection / smaller box area for a pose to be a candidate of a dancer
     min_similarity: float = 0.0  # histogram correlation below this: no pose for the dancer in this frame
     history_weight: float = 0.5  # the dancer's pose histogram = this x old + (1 - this) x newest chosen
+    yield_iou_margin: float = 0.1  # a dancer that gives way to another (``yields``) cannot take a pose whose box
+    # overlaps the other's box (IoU) at least as much as its own, less this
 
 
 class PoseSelector:
@@ -72,10 +74,12 @@ class PoseSelector:
         self.margins: list[float | None] = [None] * num_dancers
 
     def select(self, frame_bgr: np.ndarray, boxes, poses: list[PersonPose],
-               not_rivals: np.ndarray | None = None) -> list[PersonPose | None]:
+               not_rivals: np.ndarray | None = None, yields: np.ndarray | None = None) -> list[PersonPose | None]:
         """For each dancer's tracked box (x, y, w, h) px, its pose among ``poses``, or None. ``not_rivals``:
         optional (n, n) bool, True at [i, j] where dancer j's score for a pose says nothing about whether it is
-        dancer i's (j waits hidden behind i with i's colours as memory); j is then left out of i's margin."""
+        dancer i's (j waits hidden behind i with i's colours as memory); j is then left out of i's margin.
+        ``yields``: optional (n, n) bool, True at [i, j] where dancer j gives way to dancer i: j cannot take a pose
+        whose box overlaps i's box about as much as its own (``yield_iou_margin``)."""
         c = self.config
         n = len(boxes)
         chosen: list[PersonPose | None] = [None] * n
@@ -100,6 +104,11 @@ class PoseSelector:
                     score[i, k] = box_iou(box, p.box)
         if not np.isfinite(score).any():
             return chosen
+        if yields is not None:  # a pose that fits the box of the dancer given way to about as well is that dancer's
+            for i, j in zip(*np.nonzero(np.asarray(yields, bool)[:n, :n])):
+                for k in np.flatnonzero(np.isfinite(score[i]) & np.isfinite(score[j])):
+                    if box_iou(boxes[i], poses[k].box) >= box_iou(boxes[j], poses[k].box) - c.yield_iou_margin:
+                        score[j, k] = -np.inf
         cost = np.where(np.isfinite(score), -score, 1e6)
         ignored = np.zeros((n, n), bool) if not_rivals is None else np.asarray(not_rivals, bool)[:n, :n]
         rows, cols = linear_sum_assignment(cost)

@@ -267,6 +267,10 @@ class MultiTrackerConfig:
     waiting_not_rival: bool = True  # a dancer still waiting hidden behind another (``hidden_behind``) is no rival
     # in the selection margin of that dancer's pose (:meth:`MultiDancerTracker.not_pose_rivals`): its memory is
     # that dancer's colours (cached synthetic clips: see docs/tracking.md, session 18)
+    waiting_yields_pose: bool = True  # a dancer still waiting hidden behind another cannot take a pose that fits
+    # that dancer's box about as well as its own (:meth:`MultiDancerTracker.pose_yields`,
+    # ``SelectionConfig.yield_iou_margin``): its memory is the front dancer's colours, so Algorithm 2*'s histogram
+    # cannot tell them apart (session 40, docs/tracking.md)
     group_shrink: float = 0.33  # in a group (body core overlapping another dancer's) the growth goes back at this
     # fraction of that rate: the detector's and the foreground's evidence of a limb flickers there from frame to
     # frame (a skeleton that reaches out in one frame and not in the next), and one frame without it says little.
@@ -442,17 +446,24 @@ class MultiDancerTracker(ReportedExtent):
         in front, and ``i`` may be taken for it."""
         return self.dancers[i].hidden_behind
 
-    def not_pose_rivals(self) -> np.ndarray:
-        """(N, N) bool, True at [i, j] where dancer j still waits hidden behind dancer i (``hidden_behind``), with
-        ``waiting_not_rival``: j's colours are then i's, so j matching a pose says nothing against its being i's,
-        and j is left out of i's selection margin (:class:`hdvr.pose2d.selection.PoseSelector`)."""
-        n = len(self.dancers)
-        out = np.zeros((n, n), bool)
-        if self.config.waiting_not_rival:
-            for d in self.dancers:
-                if d.hidden_behind is not None and d.status != OUT:
-                    out[d.hidden_behind, d.dancer_id] = True
+    def waiting_behind(self) -> np.ndarray:
+        """(N, N) bool, True at [i, j] where dancer j, in the frame, still waits hidden behind dancer i since its
+        start (``hidden_behind``)."""
+        out = np.zeros((len(self.dancers),) * 2, bool)
+        for d in self.waiting():
+            out[d.hidden_behind, d.dancer_id] = True
         return out
+
+    def not_pose_rivals(self) -> np.ndarray:
+        """:meth:`waiting_behind` with ``waiting_not_rival`` (else all False): j's colours are then i's, so j
+        matching a pose says nothing against its being i's, and j is left out of i's selection margin
+        (:class:`hdvr.pose2d.selection.PoseSelector`)."""
+        return self.waiting_behind() & self.config.waiting_not_rival
+
+    def pose_yields(self) -> np.ndarray:
+        """:meth:`waiting_behind` with ``waiting_yields_pose`` (else all False): j gives way to i for a pose that
+        fits i's box about as well as its own (:class:`hdvr.pose2d.selection.PoseSelector`, ``yields``)."""
+        return self.waiting_behind() & self.config.waiting_yields_pose
 
     def waiting(self) -> list[DancerTrack]:
         """Dancers in the frame that started mostly hidden behind another and have not come out yet

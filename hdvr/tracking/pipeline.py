@@ -309,8 +309,10 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 not_rivals = np.zeros((n, n), bool)  # padded like the boxes: dancers not started yet are no one's
                 k = len(tracker.dancers)
                 not_rivals[:k, :k] = tracker.not_pose_rivals()
+                yields = np.zeros((n, n), bool)
+                yields[:k, :k] = tracker.pose_yields()
                 chosen = selector.select(frame, _pad(tracker.result(widen_hidden=False), n).boxes, people + weak,
-                                         not_rivals)
+                                         not_rivals, yields)
                 for i, pose in enumerate(chosen):
                     if pose is not None:
                         kp[i] = pose.body25()
