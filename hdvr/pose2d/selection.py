@@ -4,7 +4,9 @@ Per frame, the candidates of dancer i are the detected poses whose box overlaps 
 B_t^i. Among them the pose whose colour histogram (over the pixels its skeleton covers) correlates best with the
 histogram of the pose chosen for dancer i before is taken; before any pose was chosen, the best box overlap decides.
 Where the paper lets every dancer take its best candidate independently, here one assignment (Hungarian, scipy)
-over all dancers is solved, so two dancers never take the same pose; with no conflict both rules agree.
+over all dancers is solved, so two dancers never take the same pose; with no conflict both rules agree. A dancer
+that gives way to another (``yields``: it waits hidden behind that dancer, so its colour memory is that dancer's and
+the histogram cannot tell them apart) is no candidate for a pose that fits the other's box about as well as its own.
 """
 
 from __future__ import annotations
