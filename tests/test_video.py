@@ -67,6 +67,26 @@ def test_reads_other_containers(tmp_path, fourcc, suffix):
     assert len(list(reader)) == 8
 
 
+def test_reads_h264_in_a_quicktime_mov(tmp_path):
+    """Phones record H.264 in a QuickTime .mov: written here with PyAV's libx264, read back frame by frame."""
+    import av
+
+    path = tmp_path / "phone.mov"
+    with av.open(str(path), "w") as container:
+        stream = container.add_stream("libx264", rate=25)
+        stream.width, stream.height, stream.pix_fmt = 64, 48, "yuv420p"
+        written = _frames(10, (64, 48))
+        for frame in written:
+            container.mux(stream.encode(av.VideoFrame.from_ndarray(frame, format="bgr24")))
+        container.mux(stream.encode())
+    reader = VideoReader(path)
+    assert (reader.info.width, reader.info.height, reader.info.fps) == (64, 48, 25.0)
+    frames = list(reader)
+    assert len(frames) == 10 and frames[0].shape == (48, 64, 3)
+    for got, sent in zip(frames, written):  # lossy, but the same picture, in BGR order
+        assert np.abs(got.astype(int) - sent.astype(int)).mean() < 12
+
+
 def test_bad_inputs(tmp_path):
     with pytest.raises(HDVRError, match="not found"):
         VideoReader(tmp_path / "missing.mp4")
