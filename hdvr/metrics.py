@@ -100,8 +100,12 @@ def root_relative(body25: np.ndarray) -> np.ndarray:
 def scored_frames(pred_body25: np.ndarray, gt_body25: np.ndarray) -> np.ndarray:
     """(T,) bool: the frames :func:`evaluate` scores, where both BODY_25 (T, 25, 3) poses have every one of
     :data:`EVAL_JOINTS` and the root (a frame without a pose is NaN, e.g. one the 3D fit had no 2D keypoints for)."""
-    return np.isfinite(root_relative(pred_body25)).all(axis=(1, 2)) & \
-        np.isfinite(root_relative(gt_body25)).all(axis=(1, 2))
+    return _both_finite(root_relative(pred_body25), root_relative(gt_body25))
+
+
+def _both_finite(p: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """(T,) bool: frames where both root-relative (T, J, 3) arrays are finite throughout."""
+    return np.isfinite(p).all(axis=(1, 2)) & np.isfinite(g).all(axis=(1, 2))
 
 
 def evaluate(pred_body25: np.ndarray, gt_body25: np.ndarray) -> dict[str, float]:
@@ -110,7 +114,7 @@ def evaluate(pred_body25: np.ndarray, gt_body25: np.ndarray) -> dict[str, float]
     Frames left out by :func:`scored_frames` count in no per-frame metric, and velocity and acceleration errors
     only span frames that both are scored."""
     p, g = root_relative(pred_body25), root_relative(gt_body25)
-    scored = scored_frames(pred_body25, gt_body25)
+    scored = _both_finite(p, g)  # = scored_frames(pred_body25, gt_body25), without converting twice
     gap = np.where(scored[:, None, None], 0.0, np.nan)
     ps, gs = p[scored], g[scored]
     return {"mpjpe_mm": mpjpe(ps, gs), "p_mpjpe_mm": p_mpjpe(ps, gs), "n_mpjpe_mm": n_mpjpe(ps, gs),
