@@ -103,17 +103,17 @@ def load_pose3d(path, dancer: int, what: str) -> np.ndarray:
     from hdvr.io.npz import open_npz
 
     p = Path(path)
-    data = open_npz(p, (), what)
-    if "keypoints3d_camera" in data.files:
-        kp = np.asarray(data["keypoints3d_camera"], float)
-        if kp.ndim != 4 or kp.shape[2:] != (25, 3):
-            raise HDVRError(f"{p}: 'keypoints3d_camera' must be (dancers, frames, 25, 3), got {kp.shape}")
-        if not 0 <= dancer < kp.shape[0]:
-            raise HDVRError(f"{p} has {kp.shape[0]} dancers; --dancer {dancer} does not exist")
-        return kp[dancer]
-    from hdvr.io.result3d import load_result3d
+    with open_npz(p, (), what) as data:
+        kp = np.asarray(data["keypoints3d_camera"], float) if "keypoints3d_camera" in data.files else None
+    if kp is None:  # not a synth gt.npz: a 3D result, read and checked as such
+        from hdvr.io.result3d import load_result3d
 
-    return np.asarray(load_result3d(p).keypoints3d, float)
+        return np.asarray(load_result3d(p).keypoints3d, float)
+    if kp.ndim != 4 or kp.shape[2:] != (25, 3):
+        raise HDVRError(f"{p}: 'keypoints3d_camera' must be (dancers, frames, 25, 3), got {kp.shape}")
+    if not 0 <= dancer < kp.shape[0]:
+        raise HDVRError(f"{p} has {kp.shape[0]} dancers; --dancer {dancer} does not exist")
+    return kp[dancer]
 
 
 def score_pose3d(gt_path, predicted_path, dancer: int = 0) -> dict:
