@@ -101,3 +101,24 @@ def test_full_demo(tmp_path):
     scores = json.loads((tmp_path / "demo_scores.json").read_text())
     assert scores["tracking"]["IDSW"] == 0 and len(scores["dancers"]) == 2
     assert scores["genre"]["available"] and scores["genre"]["truth"] == "hip_hop"
+
+
+def test_run_takes_hdvr_track_s_start_boxes_and_corrections(tmp_path, capsys):
+    """``hdvr run`` passes start and correction options to the tracking stage as ``hdvr track`` does: a correction
+    of a dancer that does not exist is refused before any work, with one line naming it."""
+    from hdvr.tracking.testclips import default_crossing_specs, render_clip
+
+    path = tmp_path / "two.mp4"
+    truth = render_clip(path, frames=6, size=(320, 240), specs=default_crossing_specs(num_figures=2, seed=1,
+                                                                                     size=(320, 240)))
+    boxes = ";".join(",".join(f"{v:g}" for v in b) for b in truth.boxes[0])
+    assert main(["run", str(path), "--out", str(tmp_path / "out"), "--boxes", boxes, "--correct",
+                 "2@3:10,10,40,80", "--no-genre"]) == 2
+    err = capsys.readouterr().err
+    assert "correction at frame 3: no dancer 2" in err and len(err.strip().splitlines()) == 1
+    (tmp_path / "starts.json").write_text(json.dumps({"starts": [{"frame": 0, "box": truth.boxes[0, 0].tolist()}],
+                                                      "corrections": [{"frame": 9, "dancer": 0,
+                                                                       "box": truth.boxes[0, 0].tolist()}]}))
+    assert main(["run", str(path), "--out", str(tmp_path / "out"), "--boxes-file", str(tmp_path / "starts.json"),
+                 "--no-genre"]) == 2
+    assert "the video has 6 frames" in capsys.readouterr().err

@@ -66,3 +66,33 @@ def test_start_boxes_with_frames(tmp_path):
         (tmp_path / "bad.json").write_text(json.dumps(bad))
         with pytest.raises(HDVRError, match=message):
             read_start_boxes(tmp_path / "bad.json")
+
+
+def test_read_corrections_and_parse_correction(tmp_path):
+    """Corrections come as JSON (a list or under "corrections") or as DANCER@FRAME:x,y,w,h; a boxes file without
+    them gives none where they are optional, and malformed ones are refused naming the problem."""
+    from hdvr.tracking.boxes import parse_correction, read_corrections
+
+    items = [{"frame": 30, "dancer": 0, "box": [1, 2, 3, 4]}, {"frame": 12, "dancer": 1, "box": [5, 6, 7, 8]}]
+    (tmp_path / "list.json").write_text(json.dumps(items))
+    (tmp_path / "doc.json").write_text(json.dumps({"starts": [{"frame": 0, "box": [1, 2, 3, 4]}],
+                                                   "corrections": items}))
+    expected = [(12, 1, (5.0, 6.0, 7.0, 8.0)), (30, 0, (1.0, 2.0, 3.0, 4.0))]
+    assert read_corrections(tmp_path / "list.json") == expected
+    assert read_corrections(tmp_path / "doc.json") == expected
+    (tmp_path / "boxes.json").write_text(json.dumps([[1, 2, 3, 4]]))
+    (tmp_path / "boxes.txt").write_text("1,2,3,4\n")
+    assert read_corrections(tmp_path / "boxes.json", required=False) == []
+    assert read_corrections(tmp_path / "boxes.txt", required=False) == []
+    with pytest.raises(HDVRError, match="expected JSON"):
+        read_corrections(tmp_path / "boxes.txt")
+    (tmp_path / "bad.json").write_text(json.dumps({"corrections": [{"frame": -1, "dancer": 0, "box": [1, 2, 3, 4]}]}))
+    with pytest.raises(HDVRError, match="frame -1 is not a whole number"):
+        read_corrections(tmp_path / "bad.json")
+    (tmp_path / "bad.json").write_text(json.dumps({"corrections": [{"frame": 1, "box": [1, 2, 3, 4]}]}))
+    with pytest.raises(HDVRError, match="expected each correction"):
+        read_corrections(tmp_path / "bad.json")
+    assert parse_correction("1@120:300,80,90,260") == (120, 1, (300.0, 80.0, 90.0, 260.0))
+    for text in ("1:300,80,90,260", "a@1:1,2,3,4", "1@2"):
+        with pytest.raises(HDVRError, match="DANCER@FRAME"):
+            parse_correction(text)

@@ -329,7 +329,7 @@ def _stack(frames: int = 12) -> tuple[np.ndarray, list[tuple[str, str]]]:
 
 def test_start_offsets_are_measured_in_the_hidden_dancer_s_box_heights():
     boxes, _ = _stack()
-    assert start_offsets(boxes, [(0, 1, 0)]) == {1: (0, pytest.approx(0.2))}
+    assert start_offsets(boxes, [(0, 1, 0)]) == {(1, 0): (0, pytest.approx(0.2))}
     assert start_offsets(boxes, []) == {}
     gone = boxes.copy()
     gone[0, 0] = np.nan  # no box in front at the start frame: no offset
@@ -374,5 +374,21 @@ def test_apply_hindsight_keeps_a_hidden_start_s_offset_after_the_other_steps():
     plain, filled = apply_hindsight(boxes, status, keypoints)
     kept, filled_too = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)])
     np.testing.assert_array_equal(filled, filled_too)
-    np.testing.assert_allclose(kept, keep_start_offset(plain, status, {1: (0, 0.2)}, START_OFFSET_WEIGHT))
+    np.testing.assert_allclose(kept, keep_start_offset(plain, status, {(1, 0): (0, 0.2)}, START_OFFSET_WEIGHT))
     assert np.abs(kept[:8, 1, 0] - plain[:8, 1, 0]).max() > 1.0
+
+
+def test_a_dancer_hidden_again_from_a_later_start_keeps_the_offset_of_that_start():
+    """A dancer with two hidden starts (its start, then a user's correction behind the same dancer) is held at
+    the offset of the latest start before each hidden frame."""
+    boxes, _ = _stack()
+    status = [("tracked", "hidden") for _ in range(len(boxes))]
+    later = 5
+    boxes[later:, 1, 0] += 10.0  # from frame 5 on it stands further right
+    offsets = start_offsets(boxes, [(0, 1, 0), (later, 1, 0)])
+    assert set(offsets) == {(1, 0), (1, later)} and offsets[(1, later)][1] > offsets[(1, 0)][1]
+    full = keep_start_offset(boxes, status, offsets, weight=1.0)
+    centre = lambda b: b[..., 0] + b[..., 2] / 2  # noqa: E731
+    gap = centre(full[:, 1]) - centre(full[:, 0])
+    np.testing.assert_allclose(gap[:later], offsets[(1, 0)][1] * boxes[:later, 1, 3])
+    np.testing.assert_allclose(gap[later:], offsets[(1, later)][1] * boxes[later:, 1, 3])

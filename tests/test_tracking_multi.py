@@ -1321,3 +1321,39 @@ def test_a_dancer_beside_a_partner_follows_her_detection_s_height():
     x, y, w, h = d.box
     assert (x, w, y + h) == (200.0, 60.0, 280.0)
     assert h == pytest.approx(0.7 * 180.0 + 0.3 * 220.0)  # box_adaptation 0.3 of the way
+
+
+def test_a_corrected_dancer_restarts_seen_on_its_box_with_its_own_colours():
+    """A user's correction puts a dancer where it is: no longer waiting behind another, tracked, its box the
+    corrected one, its colour memory learned there (outside the body cores of dancers it overlaps), its velocity
+    and growth forgotten; the other dancers are left as they were."""
+    rng = np.random.default_rng(5)
+    behind, front, elsewhere = (300.0, 100.0, 60.0, 200.0), (280.0, 180.0, 120.0, 260.0), (60.0, 120.0, 70.0, 220.0)
+    frame = _two_colour_frame(rng, [(front, ((40, 40, 210), (40, 200, 230))),
+                                    (elsewhere, ((200, 60, 40), (230, 200, 40)))])
+    tracker = _waiting_behind(frame)
+    memory = tracker.dancers[0].stored_histogram  # its start box shows the dancer in front
+    assert histogram_similarity(memory, colour_histogram(frame, front)) > \
+        histogram_similarity(memory, colour_histogram(frame, elsewhere)) + 0.3
+    tracker.dancers[0].stored_velocity = np.array([3.0, 0.0])
+    tracker.dancers[0].growth = np.array([5.0, 0.0, 5.0, 0.0])
+    front_before = tracker.dancers[1].box
+    tracker.correct(frame, 0, elsewhere, detections=[(62.0, 125.0, 66.0, 210.0)])
+    d = tracker.dancers[0]
+    assert tracker.hiding_dancer(0) is None and not tracker.waiting()
+    assert d.status == TRACKED and d.box == elsewhere and tracker.result().status[0] == TRACKED
+    np.testing.assert_allclose(tracker.result().boxes[0], elsewhere)
+    assert histogram_similarity(d.stored_histogram, colour_histogram(frame, elsewhere)) > 0.99
+    assert not d.stored_velocity.any() and not d.growth.any() and d.size_ratio is not None
+    assert tracker.dancers[1].box == front_before
+    # corrected onto the dancer in front's place, it learns only what lies outside his body core
+    tracker.correct(frame, 0, (270.0, 170.0, 140.0, 270.0))
+    assert tracker.dancers[0].size_ratio is None  # not learned from a box over another dancer
+    # corrected onto a box straight behind dancer 1, it waits hidden behind it again, as at a start
+    tracker.correct(frame, 0, behind)
+    assert tracker.hiding_dancer(0) == 1 and tracker.dancers[0].status == TRACKED
+    off = _waiting_behind(frame, MultiTrackerConfig(correction_waits_behind=False))
+    off.correct(frame, 0, behind)
+    assert off.hiding_dancer(0) is None
+    with pytest.raises(IndexError):
+        tracker.correct(frame, 2, elsewhere)

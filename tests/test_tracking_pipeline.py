@@ -59,6 +59,7 @@ def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
                  "--detector", "none", "--no-overlay"]) == 0
     warnings = [line for line in capsys.readouterr().err.splitlines() if "hidden" in line]
     assert len(warnings) == 1 and warnings[0].startswith("hdvr: warning: dancer 1 starts mostly hidden behind dancer 0")
+    assert "(--correct 1@FRAME:x,y,w,h)" in warnings[0]  # how to put it right where it is seen
     doc = json.loads((tmp_path / "out" / "tracks.json").read_text())
     assert doc["hidden_starts"] == [{"frame": 0, "dancer": 1, "behind": 0}]
 
@@ -83,7 +84,7 @@ def test_a_dancer_waiting_hidden_keeps_part_of_its_start_offset_in_the_boxes_wri
     np.testing.assert_allclose(runs[True].boxes, expected)
     plain = apply_hindsight(online, runs[False].status, runs[False].keypoints, frame_width=320)[0]
     centre = lambda b: b[:, 0] + b[:, 2] / 2  # noqa: E731
-    front, offset = start_offsets(online, [(0, 1, 0)])[1]
+    front, offset = start_offsets(online, [(0, 1, 0)])[(1, 0)]
     assert front == 0 and offset != 0
     now = (centre(plain[:, 1]) - centre(plain[:, front])) / plain[:, 1, 3]
     np.testing.assert_allclose((centre(expected[:, 1]) - centre(plain[:, 1])) / plain[:, 1, 3],
@@ -458,3 +459,72 @@ def test_the_box_written_reaches_a_spread_arm_that_the_pose_shows(tmp_path):
     assert (written[:, 0] <= runs[False].boxes[:, 0, 0] + 1e-6).all()
     smoothed = smooth_boxes(runs[False].boxes, runs[False].status)
     np.testing.assert_allclose(written[:, 1:4:2], smoothed[:, 0, 1:4:2])  # top and height only smoothed
+
+
+def test_a_correction_restarts_a_lost_dancer_on_the_box_given(tmp_path, capsys):
+    """A dancer started on the wrong place (background) is followed there until a correction gives its box
+    (``--correct DANCER@FRAME:x,y,w,h``): from then on it is tracked on its figure, the box at the corrected frame
+    is written as given, and tracks.json lists the correction."""
+    path = tmp_path / "two.mp4"
+    truth = render_clip(path, frames=40, size=(320, 240), specs=default_crossing_specs(num_figures=2, seed=4,
+                                                                                      size=(320, 240)))
+    wrong = truth.boxes[0].copy()
+    wrong[1, 1] = 2.0  # dancer 1's start box moved to the top of the frame, mostly on background
+    at = 8
+    box = truth.boxes[at, 1]
+    boxes_arg = ";".join(",".join(f"{v:g}" for v in b) for b in wrong)
+    runs = {}
+    for name, extra in (("plain", []), ("corrected", ["--correct", f"1@{at}:" + ",".join(f"{v:g}" for v in box)])):
+        out = tmp_path / name
+        assert main(["track", str(path), "--out", str(out), "--boxes", boxes_arg, "--detector", "none",
+                     "--no-overlay", *extra]) == 0
+        runs[name] = (read_mot(out / "tracks.mot.txt", num_frames=40), json.loads((out / "tracks.json").read_text()))
+    plain, corrected = runs["plain"][0], runs["corrected"][0]
+    assert evaluate_tracking(truth.boxes[at:, 1:], plain[at:, 1:]).idf1 < 0.5
+    assert evaluate_tracking(truth.boxes[at:, 1:], corrected[at:, 1:]).idf1 > 0.9
+    np.testing.assert_allclose(corrected[at, 1], box, atol=0.01)
+    np.testing.assert_allclose(corrected[:at, 0], plain[:at, 0])  # nothing changes before the correction
+    doc = runs["corrected"][1]
+    assert [(c["frame"], c["dancer"]) for c in doc["corrections"]] == [(at, 1)]
+    np.testing.assert_allclose(doc["corrections"][0]["box"], box)
+    assert doc["dancers"][1]["status"][at] == "tracked"
+    assert runs["plain"][1]["corrections"] == []
+
+
+def test_corrections_from_a_file_and_their_errors(tmp_path, capsys):
+    """Corrections in JSON (``--corrections FILE``, or beside the starts in a ``--boxes-file``) work like
+    ``--correct``; a dancer corrected onto a box straight behind another waits hidden behind it, as at a start;
+    a correction of a dancer that does not exist or has not started yet, after the video's end,
+    outside the frame, or malformed, is refused with a one-line error naming it."""
+    path = tmp_path / "stack.mp4"
+    truth = render_clip(path, frames=20, size=(320, 240), specs=_walker_behind_still())
+    box = [float(v) for v in truth.boxes[12, 1]]
+    starts = {"starts": [{"frame": 0, "box": truth.boxes[0, 0].tolist()}, {"frame": 5, "box": truth.boxes[5, 1].tolist()}],
+              "corrections": [{"frame": 12, "dancer": 1, "box": box}]}
+    (tmp_path / "starts.json").write_text(json.dumps(starts))
+    out = tmp_path / "out"
+    base = ["track", str(path), "--out", str(out), "--detector", "none", "--no-overlay"]
+    assert main(base + ["--boxes-file", str(tmp_path / "starts.json")]) == 0
+    doc = json.loads((out / "tracks.json").read_text())
+    assert [c["frame"] for c in doc["corrections"]] == [12]
+    # the walker is still straight behind the still figure there: it waits behind it again, as at a start
+    assert doc["dancers"][1]["status"][12] == "hidden" and {"frame": 12, "dancer": 1, "behind": 0} in \
+        doc["hidden_starts"]
+    np.testing.assert_allclose(doc["dancers"][1]["boxes"][12], box, atol=0.01)
+    (tmp_path / "fix.json").write_text(json.dumps({"corrections": [{"frame": 3, "dancer": 1, "box": box}]}))
+    boxes = ["--boxes", _boxes_arg(truth)]
+    assert main(base + boxes + ["--corrections", str(tmp_path / "fix.json")]) == 0
+    capsys.readouterr()
+    bad = {
+        "--correct=2@3:10,10,40,80": "no dancer 2",
+        "--correct=1@25:10,10,40,80": "the video has 20 frames",
+        "--correct=1@3:400,10,40,80": "lies outside the 320x240 frame",
+        "--correct=1-3:10,10,40,80": "expected DANCER@FRAME:x,y,w,h",
+        "--correct=1@3:10,10,40": "expected four",
+    }
+    for arg, message in bad.items():
+        assert main(base + boxes + [arg]) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1, (arg, err)
+    assert main(base + ["--boxes-file", str(tmp_path / "starts.json"), "--correct", "1@2:150,100,40,80"]) == 2
+    assert "dancer 1 starts only at frame 5" in capsys.readouterr().err

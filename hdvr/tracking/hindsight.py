@@ -304,31 +304,37 @@ def _sideways_offset(own: np.ndarray, other: np.ndarray) -> np.ndarray:
     return (own[..., 0] + own[..., 2] / 2 - other[..., 0] - other[..., 2] / 2) / own[..., 3]
 
 
-def start_offsets(boxes: np.ndarray, hidden_starts) -> dict[int, tuple[int, float]]:
-    """For each dancer that starts hidden behind another (``hidden_starts``: (frame, dancer, dancer in front)
-    triples), the dancer in front and the horizontal offset of its box centre from that dancer's box centre in
-    ``boxes`` (T, N, 4) px at its start frame, in its own box heights (positive: to the right in the image)."""
+def start_offsets(boxes: np.ndarray, hidden_starts) -> dict[tuple[int, int], tuple[int, float]]:
+    """For each start of a dancer hidden behind another (``hidden_starts``: (frame, dancer, dancer in front)
+    triples; a user's correction that puts a dancer behind another is such a start too), keyed by (dancer, frame):
+    the dancer in front and the horizontal offset of its box centre from that dancer's box centre in ``boxes``
+    (T, N, 4) px at that frame, in its own box heights (positive: to the right in the image)."""
     boxes = np.asarray(boxes, float)
     out = {}
     for frame, dancer, front in hidden_starts:
         own, other = boxes[frame, dancer], boxes[frame, front]
         if np.isfinite(own).all() and np.isfinite(other).all() and own[3] > 0:
-            out[int(dancer)] = (int(front), float(_sideways_offset(own, other)))
+            out[(int(dancer), int(frame))] = (int(front), float(_sideways_offset(own, other)))
     return out
 
 
-def keep_start_offset(boxes: np.ndarray, status, offsets: dict[int, tuple[int, float]],
+def keep_start_offset(boxes: np.ndarray, status, offsets: dict[tuple[int, int], tuple[int, float]],
                       weight: float = START_OFFSET_WEIGHT) -> np.ndarray:
     """``boxes`` (T, N, 4) px with each dancer of ``offsets`` (:func:`start_offsets`) moved sideways, on the frames
     where it waits hidden (status ``hidden``) and both its box and its front dancer's are known, ``weight`` of the way
-    from its offset from the front dancer's box to its start offset (module docstring). Size and height are kept.
-    The input is not changed."""
+    from its offset from the front dancer's box to the offset of its latest start (module docstring). Size and
+    height are kept. The input is not changed."""
     boxes, status = _checked(boxes, status)
     if not 0 <= weight <= 1:
         raise ValueError(f"weight must be in [0, 1], got {weight}")
     out = boxes.copy()
-    for dancer, (front, offset) in offsets.items():
-        frames = np.flatnonzero((status[:, dancer] == HIDDEN) & np.isfinite(boxes[:, dancer]).all(axis=1)
+    starts = sorted(offsets)
+    for k, (dancer, first) in enumerate(starts):
+        front, offset = offsets[(dancer, first)]
+        later = [f for d, f in starts[k + 1:] if d == dancer]
+        span = np.zeros(len(boxes), bool)
+        span[first:later[0] if later else len(boxes)] = True
+        frames = np.flatnonzero(span & (status[:, dancer] == HIDDEN) & np.isfinite(boxes[:, dancer]).all(axis=1)
                                 & np.isfinite(boxes[:, front]).all(axis=1) & (np.nan_to_num(boxes[:, dancer, 3]) > 0))
         own = boxes[frames, dancer]
         now = _sideways_offset(own, boxes[frames, front])

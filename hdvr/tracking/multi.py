@@ -271,6 +271,9 @@ class MultiTrackerConfig:
     # that dancer's box about as well as its own (:meth:`MultiDancerTracker.pose_yields`,
     # ``SelectionConfig.yield_iou_margin``): its memory is the front dancer's colours, so Algorithm 2*'s histogram
     # cannot tell them apart (session 40, docs/tracking.md)
+    correction_waits_behind: bool = True  # a dancer a user corrects onto a box straight behind another dancer
+    # (:meth:`MultiDancerTracker.correct`) waits hidden behind it from there, as a dancer that starts so does
+    # (``hidden_start_overlap``): its box follows that dancer's until it comes out
     group_shrink: float = 0.33  # in a group (body core overlapping another dancer's) the growth goes back at this
     # fraction of that rate: the detector's and the foreground's evidence of a limb flickers there from frame to
     # frame (a skeleton that reaches out in one frame and not in the next), and one frame without it says little.
@@ -413,6 +416,54 @@ class MultiDancerTracker(ReportedExtent):
                     self._seen_at_start(frame, o, everyone, detections)
         self.dancers.append(d)
         return d.dancer_id
+
+    def correct(self, frame: np.ndarray, i: int, box, detections=None) -> None:
+        """A user's correction: dancer ``i`` is at ``box`` = (x, y, w, h) px in ``frame`` (the current frame,
+        already stepped). Its tracker restarts there, seen (``tracked``), as at a start: its velocity and box growth
+        forgotten (they may be another dancer's); with ``correction_waits_behind``, a box straight behind another
+        dancer waits hidden behind that dancer (:meth:`hiding_dancer`), else it no longer waits behind anyone and
+        learns its colours again from the box outside the body cores of the dancers it overlaps (kept where nothing
+        of the box is left). ``detections``: person boxes in this frame; one on the box (IoU > 0.5) gives the ratio
+        of the dancer's box to the detector's, as at a start. The other dancers are left as they are: after an
+        identity switch, correct each dancer involved."""
+        if not 0 <= i < len(self.dancers):
+            raise IndexError(f"no dancer {i}: {len(self.dancers)} started")
+        d = self.dancers[i]
+        b = tuple(float(v) for v in box)
+        self._restart(d, frame, b, 1.0)
+        d.status = d.last_status = TRACKED
+        d.hidden_behind = None
+        d.occlusion_end = d.occluded_since = d.recovering_until = -1
+        d.stored_velocity, d.velocity_measured = np.zeros(2), False
+        d.growth = np.zeros(4)
+        d.exit_side, d.edge_empty_score = None, 1.0
+        d.beside_now, d.beside_before, d.beside_frame = [], [], -1
+        d.group_reference, d.reshape_streak = None, 0
+        d.adapted_at = self.frame_index
+        others = [o for o in self.dancers if o is not d and o.status != OUT
+                  and self._bodies_overlap(b, o.box) > self.config.overlap_threshold]
+        if self.config.correction_waits_behind:  # as at a start (:meth:`add_dancer`)
+            front = [o for o in others if o.hidden_behind is None
+                     and self._straight_in_front(o, d, self.config.hidden_start_overlap)]
+            if front:
+                d.hidden_behind = front[0].dancer_id
+        mask = None
+        if others and d.hidden_behind is None:  # colours of the dancers overlapping it left out (a dancer that
+            # waits keeps those of its whole box, as at a start: its emergence tests expect the front dancer's)
+            mask = np.full(frame.shape[:2], 255, np.uint8)
+            for o in others:
+                core = clip_box(self._core(o.box), (frame.shape[1], frame.shape[0]))
+                if core is not None:
+                    x0, y0, x1, y1 = core
+                    mask[y0:y1, x0:x1] = 0
+        hist = colour_histogram(frame, b, mask=mask)
+        if hist is not None:
+            d.stored_histogram = hist
+        ious = [] if others else [box_iou(b, det) for det in detections or []]
+        d.size_ratio = None  # learned again from a detection while clear (:meth:`_adapt_box`)
+        if ious and max(ious) > 0.5:
+            detected = np.array(detections[int(np.argmax(ious))][2:], float)
+            d.size_ratio = self._size_ratio(np.array(b[2:]), detected)
 
     def _seen_at_start(self, frame, d: DancerTrack, everyone: list[DancerTrack], detections) -> None:
         """Dancer ``d``, starting mostly behind dancer ``d.hidden_behind``, does not wait to come out when one of

@@ -72,6 +72,17 @@ class DancerStart:
     box: tuple[float, float, float, float]
 
 
+@dataclass(frozen=True)
+class BoxCorrection:
+    """A user's correction: in 0-based ``frame``, dancer ``dancer`` (0-based, as numbered in the outputs) is at
+    ``box`` = (x, y, w, h) px. Its tracker restarts there (:meth:`MultiDancerTracker.correct`) and the box is
+    written as given."""
+
+    frame: int
+    dancer: int
+    box: tuple[float, float, float, float]
+
+
 def find_dancers(video: str | os.PathLike, detector: PoseDetector, num_dancers: int, seconds: float = 3.0,
                  every: int = 3, min_iou: float = 0.3) -> list[DancerStart]:
     """The ``num_dancers`` people seen most often in the first ``seconds`` of ``video`` (detector on every
@@ -113,6 +124,30 @@ def find_dancers(video: str | os.PathLike, detector: PoseDetector, num_dancers: 
               f"{seconds:g} s", file=sys.stderr)
     chosen.sort(key=lambda tr: (tr["start"].frame, tr["start"].box[0]))
     return [tr["start"] for tr in chosen]
+
+
+def check_corrections(corrections: list[BoxCorrection], starts: list[DancerStart], num_frames: int | None,
+                      size: tuple[int, int]) -> None:
+    """Raise :class:`HDVRError` for a correction of a dancer that does not exist or has not started by its frame,
+    one past the video's ``num_frames`` (None: unknown), one box given twice in a frame, or a box outside a frame
+    of ``size`` = (w, h) px. ``starts``: sorted by frame, as the dancers are numbered."""
+    seen = set()
+    for c in corrections:
+        if not 0 <= c.dancer < len(starts):
+            raise HDVRError(f"correction at frame {c.frame}: no dancer {c.dancer} (dancers are numbered 0 to "
+                            f"{len(starts) - 1})")
+        if c.frame < starts[c.dancer].frame:
+            raise HDVRError(f"correction at frame {c.frame}: dancer {c.dancer} starts only at frame "
+                            f"{starts[c.dancer].frame}")
+        if num_frames is not None and c.frame >= num_frames:
+            raise HDVRError(f"correction at frame {c.frame}: the video has {num_frames} frames (counted from 0)")
+        if (c.frame, c.dancer) in seen:
+            raise HDVRError(f"dancer {c.dancer} is corrected twice at frame {c.frame}")
+        seen.add((c.frame, c.dancer))
+        try:
+            check_boxes_in_frame([c.box], size)
+        except HDVRError as exc:
+            raise HDVRError(f"correction of dancer {c.dancer} at frame {c.frame}: {exc}") from None
 
 
 def _pad(result: FrameResult, n: int) -> FrameResult:
@@ -198,7 +233,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 boxes=None, num_dancers: int | None = None, detect_every: int = 1, overlay: bool = True,
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
-                zoom_hidden: bool = True, hindsight: bool = True) -> TrackRun:
+                zoom_hidden: bool = True, hindsight: bool = True,
+                corrections: list[BoxCorrection] | None = None) -> TrackRun:
     """Track the dancers of ``video`` and estimate their 2D poses; write the outputs to ``out_dir``.
 
     ``boxes``: initial (x, y, w, h) px boxes in the first frame, or None to find ``num_dancers`` people with the
@@ -246,6 +282,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     boxes = [s.box for s in starts]
     if not boxes:
         raise HDVRError("no dancer to track")
+    corrections = sorted(corrections or [], key=lambda c: c.frame)
+    check_corrections(corrections, starts, info.num_frames or None, info.size)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     n = len(boxes)
@@ -296,10 +334,16 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                     hidden_starts.append((t, i, front))
                     print(f"hdvr: warning: dancer {i} starts mostly hidden behind dancer {front} (frame {t}): its "
                           f"colours are unknown until it comes out clear of the others, and it may be taken for "
-                          f"dancer {front}; check it in the overlay video, and if it is, give it a start box in a "
-                          f"later frame where it is seen clearly (--boxes-file with start frames)", file=sys.stderr)
-            # the frame's result from step() holds unless dancers were added after it
-            result = _pad(stepped if stepped is not None and not new_ids else tracker.result(), n)
+                          f"dancer {front}; check it in the overlay video, and if it is, give it its box in a frame "
+                          f"where it is seen clearly (--correct {i}@FRAME:x,y,w,h)", file=sys.stderr)
+            corrected = [c for c in corrections if c.frame == t]
+            for c in corrected:
+                tracker.correct(frame, c.dancer, c.box, [p.box for p in people] if run_detector else None)
+                front = tracker.hiding_dancer(c.dancer)
+                if front is not None:  # waits behind it again: hindsight keeps it near this offset from it
+                    hidden_starts.append((t, c.dancer, front))
+            # the frame's result from step() holds unless dancers were added or corrected after it
+            result = _pad(stepped if stepped is not None and not new_ids and not corrected else tracker.result(), n)
             stage["track"] += time.perf_counter() - tic
             kp = np.full((n, 25, 3), np.nan, np.float32)
             kp[..., 2] = 0
@@ -347,10 +391,16 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     if hindsight:
         run.boxes, run.filled = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=info.size[0],
                                                 hidden_starts=hidden_starts)
+    for c in corrections:  # written as the user gave them
+        if c.frame < len(run.boxes):
+            run.boxes[c.frame, c.dancer] = c.box
+            run.filled[c.frame, c.dancer] = False
     if write:
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
-            "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts]})
+            "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts],
+            "corrections": [{"frame": c.frame, "dancer": c.dancer, "box": [float(v) for v in c.box]}
+                            for c in corrections]})
     if overlay and write:  # after the files that matter most
         if isinstance(failure, KeyboardInterrupt):  # stopped by the user: no second pass over the video, and no
             (out / "overlay.mp4").unlink(missing_ok=True)  # overlay of an earlier run beside these tracks
