@@ -18,12 +18,21 @@ def dancer_colour(dancer_id: int) -> tuple[int, int, int]:
     return PALETTE[dancer_id % len(PALETTE)]
 
 
-def draw_overlay(frame_bgr: np.ndarray, boxes, status, keypoints25=None, ids=None) -> np.ndarray:
+def draw_overlay(frame_bgr: np.ndarray, boxes, status, keypoints25=None, ids=None,
+                 frame_index: int | None = None) -> np.ndarray:
     """Draw in place and return ``frame_bgr``: for dancer i its box (thick when tracked, thin with a "?" when its
     position is predicted or filled through an occlusion, or held while it waits hidden behind another), its
-    id, and its skeleton from ``keypoints25[i]`` (25, 3) if given."""
+    id, and its skeleton from ``keypoints25[i]`` (25, 3) if given; with ``frame_index``, "frame N" (0-based, as
+    ``hdvr track --correct`` counts) in the top-left corner."""
     h = frame_bgr.shape[0]
     scale = max(h / 720.0, 0.5)
+    if frame_index is not None:
+        text = f"frame {frame_index}"
+        size, base = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, 0.7 * scale, max(1, int(2 * scale)))
+        pad = max(2, int(4 * scale))
+        cv2.rectangle(frame_bgr, (0, 0), (size[0] + 2 * pad, size[1] + base + 2 * pad), (0, 0, 0), -1)
+        cv2.putText(frame_bgr, text, (pad, pad + size[1]), cv2.FONT_HERSHEY_SIMPLEX, 0.7 * scale, (255, 255, 255),
+                    max(1, int(2 * scale)), cv2.LINE_AA)
     ids = list(range(len(boxes))) if ids is None else ids
     for i, box in enumerate(boxes):
         colour = dancer_colour(ids[i])

@@ -422,15 +422,15 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
 
 
 def write_overlay(video: str | os.PathLike, path: Path, run: TrackRun) -> Path:
-    """Draw ``run``'s boxes, ids and keypoints (as written to the keypoint files) on the frames of ``video`` it
-    covers and encode them to H.264 ``path``: a second pass over the video, so that the overlay shows the boxes
+    """Draw ``run``'s boxes, ids and keypoints (as written to the keypoint files) and each frame's number (for
+    ``--correct``) on the frames of ``video`` it covers and encode them to H.264 ``path``: a second pass over the video, so that the overlay shows the boxes
     filled with hindsight. Frames that cannot be decoded end the overlay early; the frames drawn are kept."""
     frames = run.boxes.shape[0]
     bar = progress(total=frames, desc="overlay", unit="frame")
     try:
         with VideoReader(video) as reader, VideoWriter(path, run.fps, run.size) as writer:
             for t, frame in enumerate(itertools.islice(reader, frames)):
-                writer.write(draw_overlay(frame, run.boxes[t], run.status[t], run.keypoints[t]))
+                writer.write(draw_overlay(frame, run.boxes[t], run.status[t], run.keypoints[t], frame_index=t))
                 bar.update(1)
     finally:
         bar.close()
