@@ -232,17 +232,18 @@ def render_motion(skeleton, qpos: np.ndarray, path: Path, fps: float, size=(320,
 def analyse_video(video: str | os.PathLike, out_dir: str | os.PathLike, num_dancers: int | None = None,
                   boxes=None, detector=None, detect_every: int = 3, fit_settings=None,
                   render_size: tuple[int, int] | None = None, recogniser="default", starts=None,
-                  corrections=None) -> PipelineResult:
+                  corrections=None, swaps=None) -> PipelineResult:
     """Run tracking, 2D pose, 3D fit, movement labelling and genre recognition on ``video``; see the module
-    docstring. ``starts``, ``corrections``: as for :func:`hdvr.tracking.pipeline.track_video`. ``recogniser``: "default" (the shipped checkpoint; genre is reported unavailable when it is
-    missing), None (no genre), a checkpoint path (an error when unreadable) or a loaded GenreRecogniser."""
+    docstring. ``starts``, ``corrections``, ``swaps``: as for :func:`hdvr.tracking.pipeline.track_video`.
+    ``recogniser``: "default" (the shipped checkpoint; genre is reported unavailable when it is missing), None (no
+    genre), a checkpoint path (an error when unreadable) or a loaded GenreRecogniser."""
     from hdvr.progress import progress
     from hdvr.tracking.pipeline import track_video
 
     genre_model, genre_reason = load_genre_recogniser(recogniser)  # before the slow part: a bad path fails fast
     out = Path(out_dir)
     run = track_video(video, out, detector=detector, boxes=boxes, num_dancers=num_dancers,
-                      detect_every=detect_every, starts=starts, corrections=corrections)
+                      detect_every=detect_every, starts=starts, corrections=corrections, swaps=swaps)
     dancers = []
     for i in progress(range(run.boxes.shape[1]), desc="3D fit and movements", unit="dancer"):
         kp_path = out / f"dancer_{i}.npz"

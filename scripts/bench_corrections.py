@@ -11,12 +11,17 @@ at the overlay video and corrects it, then the clip is tracked again with all co
   least ``--min-visible`` of its 25 keypoints (a dancer hidden all through the stretch cannot be drawn), giving its
   ground-truth box;
 - each round takes the earliest such frame over all dancers and corrects there every dancer that is wrong and
-  seen in it (after an identity switch both dancers' boxes are wrong, and both are corrected).
+  seen in it (after an identity switch both dancers' boxes are wrong, and both are corrected); with ``--swaps``,
+  two dancers each of whose boxes lies on the other's ground truth (IoU >= 0.5) there are swapped instead
+  (``hdvr track --swap A,B@FRAME``: one action, no box drawn).
+
+The count of a round is the user's actions so far: boxes drawn plus swaps.
 
 Tracks start from the ground-truth first boxes (as ``bench_track.py --sections synth``), YOLO11n-pose at 480 px
 on every 3rd frame, sure finds from 0.3, weak from 0.2, hindsight on: what ``hdvr track`` writes.
 
 Usage: python3 scripts/bench_corrections.py --clips SEED:INDEX,... [--clips-dir DIR] [--max-rounds 5]
+                                            [--min-stretch 10] [--min-visible 0.5] [--swaps]
                                             [--per-clip-json FILE] [--markdown FILE]
 ``INDEX`` indexes ``bench_track.SYNTH_CLIPS`` (0 tango couple, 1 swing couple, 2 hip-hop trio, 3 flamenco trio,
 4 hip-hop quartet, 5 ballet quartet); a clip already rendered under ``--clips-dir`` is reused.
@@ -43,7 +48,7 @@ import numpy as np  # noqa: E402
 
 from hdvr.tracking.appearance import box_iou  # noqa: E402
 from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
-from hdvr.tracking.pipeline import BoxCorrection, track_video  # noqa: E402
+from hdvr.tracking.pipeline import BoxCorrection, IdentitySwap, track_video  # noqa: E402
 from benchdoc import cpu_name  # noqa: E402
 
 
@@ -78,17 +83,29 @@ def wrong_frames(gt: np.ndarray, boxes: np.ndarray, min_stretch: int) -> np.ndar
 
 
 def next_corrections(gt: np.ndarray, boxes: np.ndarray, shown: np.ndarray, min_stretch: int = 10,
-                     min_visible: float = 0.5) -> list[tuple[int, int, tuple[float, float, float, float]]]:
-    """The simulated user's next corrections, as (frame, dancer, box px) in the ground truth's dancer order: at the
-    earliest frame where a dancer is wrong (:func:`wrong_frames`) and shows at least ``min_visible`` of its
-    keypoints (``shown`` (T, N), fraction of keypoints visible), every dancer wrong and shown there, with its
-    ground-truth box. Empty when nothing wrong can be seen."""
+                     min_visible: float = 0.5, swaps: bool = False
+                     ) -> tuple[list[tuple[int, int, tuple[float, float, float, float]]], list[tuple[int, int, int]]]:
+    """The simulated user's next corrections, as (frame, dancer, box px), and swaps, as (frame, dancer, dancer), in
+    the ground truth's dancer order: at the earliest frame where a dancer is wrong (:func:`wrong_frames`) and shows
+    at least ``min_visible`` of its keypoints (``shown`` (T, N), fraction of keypoints visible), every dancer wrong
+    and shown there gets its ground-truth box, except (``swaps``) pairs whose boxes each lie on the other's ground
+    truth (IoU >= 0.5), which are swapped. Both empty when nothing wrong can be seen."""
     candidates = wrong_frames(gt, boxes, min_stretch) & (shown >= min_visible)
     frames = np.flatnonzero(candidates.any(axis=1))
     if not frames.size:
-        return []
+        return [], []
     t = int(frames[0])
-    return [(t, int(j), tuple(float(v) for v in gt[t, j])) for j in np.flatnonzero(candidates[t])]
+    wrong = [int(j) for j in np.flatnonzero(candidates[t])]
+    pairs = []
+    if swaps:
+        def on(j, k):  # dancer j's box on dancer k's ground truth
+            return np.isfinite(boxes[t, j]).all() and box_iou(boxes[t, j], gt[t, k]) >= 0.5
+        for a in wrong:
+            for b in wrong:
+                if a < b and on(a, b) and on(b, a) and not any({a, b} & set(p[1:]) for p in pairs):
+                    pairs.append((t, a, b))
+    swapped = {j for p in pairs for j in p[1:]}
+    return [(t, j, tuple(float(v) for v in gt[t, j])) for j in wrong if j not in swapped], pairs
 
 
 def main() -> int:
@@ -102,6 +119,7 @@ def main() -> int:
     parser.add_argument("--max-rounds", type=int, default=5)
     parser.add_argument("--min-stretch", type=int, default=10)
     parser.add_argument("--min-visible", type=float, default=0.5)
+    parser.add_argument("--swaps", action="store_true", help="swap pairs of dancers each on the other's place")
     parser.add_argument("--per-clip-json", type=Path)
     parser.add_argument("--markdown", type=Path)
     args = parser.parse_args()
@@ -123,21 +141,23 @@ def main() -> int:
         order, starts = bt._starts_from_truth(gt)
         tracker_id = {j: k for k, j in enumerate(order)}
         corrections: list[BoxCorrection] = []
+        swaps: list[IdentitySwap] = []
         rounds = []
         with tempfile.TemporaryDirectory() as out:
             for _ in range(args.max_rounds + 1):
                 run = track_video(clip / "video.mp4", out, detector=detector, starts=starts, detect_every=3,
-                                  overlay=False, write=False, corrections=corrections)
-                boxes = run.boxes[:, np.argsort(order)]
-                scores = evaluate_tracking(gt, boxes)
+                                  overlay=False, write=False, corrections=corrections, swaps=swaps)
+                boxes = run.boxes[:, np.argsort(order)]  # written ids keep their ground-truth dancers: the
+                scores = evaluate_tracking(gt, boxes)  # swaps put the persons under them
                 rounds.append({"idf1": round(scores.idf1, 4), "switches": scores.id_switches,
-                               "corrections": len(corrections)})
+                               "corrections": len(corrections) + len(swaps), "swaps": len(swaps)})
                 if passes(scores.idf1, scores.id_switches):
                     break
-                new = next_corrections(gt, boxes, shown, args.min_stretch, args.min_visible)
-                if not new or len(rounds) > args.max_rounds:
+                new, pairs = next_corrections(gt, boxes, shown, args.min_stretch, args.min_visible, args.swaps)
+                if not (new or pairs) or len(rounds) > args.max_rounds:
                     break
                 corrections += [BoxCorrection(t, tracker_id[j], box) for t, j, box in new]
+                swaps += [IdentitySwap(t, tracker_id[a], tracker_id[b]) for t, a, b in pairs]
         name = f"{seed}:{index}"
         per_clip[name] = {"genre": genre, "dancers": n, "rounds": rounds,
                           "passes": passes(rounds[-1]["idf1"], rounds[-1]["switches"])}
@@ -156,8 +176,10 @@ def summary(per_clip: dict, args, seconds: float) -> list[str]:
     """Markdown lines: how many clips pass after 0, 1, 2, ... corrections."""
     failing = {k: v for k, v in per_clip.items() if not passes(v["rounds"][0]["idf1"], v["rounds"][0]["switches"])}
     lines = [f"{len(per_clip)} clips, {len(failing)} failing without corrections (min stretch {args.min_stretch} "
-             f"frames, dancer showing >= {args.min_visible:g} of its keypoints; {cpu_name()}, {seconds / 60:.0f} min)",
-             "", "| corrections (boxes) | failing clips passing | IDF1 mean of the failing clips |", "|---|---|---|"]
+             f"frames, dancer showing >= {args.min_visible:g} of its keypoints"
+             f"{', swaps' if getattr(args, 'swaps', False) else ''}; {cpu_name()}, {seconds / 60:.0f} min)",
+             "", "| corrections (boxes + swaps) | failing clips passing | IDF1 mean of the failing clips |",
+             "|---|---|---|"]
     most = max((r["corrections"] for v in failing.values() for r in v["rounds"]), default=0)
     for c in range(most + 1):
         def at(v):  # the last round with at most c corrections

@@ -46,13 +46,15 @@ def test_next_corrections_fix_both_dancers_of_a_switch_where_they_are_seen():
     bc = _load()
     gt, boxes = _swap_clip()
     shown = np.ones((20, 3))
-    fixes = bc.next_corrections(gt, boxes, shown, min_stretch=5)
-    assert [(t, j) for t, j, _ in fixes] == [(8, 0), (8, 1)]
+    fixes, swaps = bc.next_corrections(gt, boxes, shown, min_stretch=5)
+    assert [(t, j) for t, j, _ in fixes] == [(8, 0), (8, 1)] and swaps == []
     np.testing.assert_allclose(fixes[0][2], gt[8, 0])
-    shown[8:11, 0] = 0.1  # dancer 0 hidden for 3 frames after the switch: corrected once seen
-    fixes = bc.next_corrections(gt, boxes, shown, min_stretch=5, min_visible=0.5)
-    assert [(t, j) for t, j, _ in fixes] == [(8, 1)]
-    assert bc.next_corrections(gt, gt, shown) == []
+    # a user who swaps: one swap instead of two boxes
+    assert bc.next_corrections(gt, boxes, shown, min_stretch=5, swaps=True) == ([], [(8, 0, 1)])
+    shown[8:11, 0] = 0.1  # dancer 0 hidden for 3 frames after the switch: only dancer 1 corrected then
+    fixes, swaps = bc.next_corrections(gt, boxes, shown, min_stretch=5, min_visible=0.5, swaps=True)
+    assert [(t, j) for t, j, _ in fixes] == [(8, 1)] and swaps == []
+    assert bc.next_corrections(gt, gt, shown) == ([], [])
 
 
 def test_summary_counts_the_clips_passing_after_each_number_of_corrections():

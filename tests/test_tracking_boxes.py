@@ -96,3 +96,23 @@ def test_read_corrections_and_parse_correction(tmp_path):
     for text in ("1:300,80,90,260", "a@1:1,2,3,4", "1@2"):
         with pytest.raises(HDVRError, match="DANCER@FRAME"):
             parse_correction(text)
+
+
+def test_read_swaps_and_parse_swap(tmp_path):
+    from hdvr.tracking.boxes import parse_swap, read_swaps
+
+    (tmp_path / "fix.json").write_text(json.dumps({"swaps": [{"frame": 40, "dancers": [2, 0]},
+                                                             {"frame": 10, "dancers": [0, 1]}]}))
+    assert read_swaps(tmp_path / "fix.json") == [(10, 0, 1), (40, 2, 0)]
+    (tmp_path / "none.json").write_text(json.dumps({"corrections": []}))
+    (tmp_path / "boxes.txt").write_text("1,2,3,4\n")
+    assert read_swaps(tmp_path / "none.json") == [] and read_swaps(tmp_path / "boxes.txt") == []
+    (tmp_path / "bad.json").write_text(json.dumps({"swaps": [{"frame": 4, "dancers": [1]}]}))
+    with pytest.raises(HDVRError, match="expected each swap"):
+        read_swaps(tmp_path / "bad.json")
+    assert parse_swap("0,1@240") == (240, 0, 1)
+    for text in ("0,1", "0@3", "a,b@3", "0,1,2@3"):
+        with pytest.raises(HDVRError, match="A,B@FRAME"):
+            parse_swap(text)
+    with pytest.raises(HDVRError, match="counted from 0"):
+        parse_swap("0,-1@3")

@@ -499,7 +499,8 @@ def test_corrections_from_a_file_and_their_errors(tmp_path, capsys):
     path = tmp_path / "stack.mp4"
     truth = render_clip(path, frames=20, size=(320, 240), specs=_walker_behind_still())
     box = [float(v) for v in truth.boxes[12, 1]]
-    starts = {"starts": [{"frame": 0, "box": truth.boxes[0, 0].tolist()}, {"frame": 5, "box": truth.boxes[5, 1].tolist()}],
+    starts = {"starts": [{"frame": 0, "box": truth.boxes[0, 0].tolist()},
+                         {"frame": 5, "box": truth.boxes[5, 1].tolist()}],
               "corrections": [{"frame": 12, "dancer": 1, "box": box}]}
     (tmp_path / "starts.json").write_text(json.dumps(starts))
     out = tmp_path / "out"
@@ -528,3 +529,45 @@ def test_corrections_from_a_file_and_their_errors(tmp_path, capsys):
         assert message in err and len(err.strip().splitlines()) == 1, (arg, err)
     assert main(base + ["--boxes-file", str(tmp_path / "starts.json"), "--correct", "1@2:150,100,40,80"]) == 2
     assert "dancer 1 starts only at frame 5" in capsys.readouterr().err
+
+
+def test_a_swap_exchanges_two_dancers_ids_from_its_frame_on(clip, tmp_path, capsys):
+    """``--swap 0,1@F``: from frame F on, what was written as dancer 0 is written as dancer 1 and the other way
+    round (boxes, status, keypoint files), each tracker following the same person as before; earlier frames are
+    unchanged, tracks.json lists the swap, and a bad swap is refused in one line."""
+    path, truth = clip
+    at = 25
+    runs = {}
+    for name, extra in (("plain", []), ("swapped", ["--swap", f"0,1@{at}"])):
+        out = tmp_path / name
+        assert main(["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "none",
+                     "--no-overlay", "--no-hindsight", *extra]) == 0
+        runs[name] = (read_mot(out / "tracks.mot.txt", num_frames=60), json.loads((out / "tracks.json").read_text()))
+    plain, swapped = runs["plain"][0], runs["swapped"][0]
+    np.testing.assert_array_equal(swapped[:at], plain[:at])
+    np.testing.assert_array_equal(swapped[at:, [1, 0]], plain[at:])
+    doc = runs["swapped"][1]
+    assert doc["swaps"] == [{"frame": at, "dancers": [0, 1]}]
+    assert doc["dancers"][0]["status"][at:] == runs["plain"][1]["dancers"][1]["status"][at:]
+    assert evaluate_tracking(truth.boxes, swapped).id_switches >= 1  # the tracks were right: the swap breaks them
+    for arg, message in {"--swap=0,0@3": "cannot swap with itself", "--swap=0,2@3": "no dancer 2",
+                         "--swap=0,1@70": "the video has 60 frames", "--swap=0-1@3": "expected A,B@FRAME"}.items():
+        assert main(["track", str(path), "--out", str(tmp_path / "bad"), "--boxes", _boxes_arg(truth),
+                     "--detector", "none", "--no-overlay", arg]) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1, (arg, err)
+
+
+def test_a_swap_and_a_correction_in_one_frame_name_the_dancers_after_the_swap(clip, tmp_path):
+    """Corrections name dancers by their ids after the swaps of their frame; a file may carry both."""
+    path, truth = clip
+    at = 25
+    fixes = {"swaps": [{"frame": at, "dancers": [0, 1]}],
+             "corrections": [{"frame": at, "dancer": 0, "box": truth.boxes[at, 1].tolist()}]}
+    (tmp_path / "fixes.json").write_text(json.dumps(fixes))
+    out = tmp_path / "out"
+    assert main(["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "none",
+                 "--no-overlay", "--corrections", str(tmp_path / "fixes.json")]) == 0
+    written = read_mot(out / "tracks.mot.txt", num_frames=60)
+    np.testing.assert_allclose(written[at, 0], truth.boxes[at, 1], atol=0.01)  # dancer 0 is now figure 1
+    assert evaluate_tracking(truth.boxes[at:, [1, 0]], written[at:]).idf1 > 0.9

@@ -62,25 +62,34 @@ def add_dancer_arguments(p) -> None:
                    help="correct a dancer's box in a frame where the overlay shows it lost or taken for another "
                         "(0-based dancer id and frame, box in pixels; repeat for more): its tracker restarts "
                         "there. After an identity switch, correct every dancer involved")
+    p.add_argument("--swap", action="append", default=[], metavar="A,B@FRAME",
+                   help="exchange the ids of dancers A and B from FRAME on (0-based), where the overlay shows them "
+                        "swapped after a crossing; repeat for more. No box needed: each tracker keeps its person")
     p.add_argument("--corrections", metavar="FILE",
-                   help="JSON file of corrections: {\"corrections\": [{\"frame\": F, \"dancer\": i, \"box\": "
-                        "[x, y, w, h]}, ...]} (a --boxes-file in JSON may hold them too)")
+                   help="JSON file of corrections and swaps: {\"corrections\": [{\"frame\": F, \"dancer\": i, "
+                        "\"box\": [x, y, w, h]}, ...], \"swaps\": [{\"frame\": F, \"dancers\": [a, b]}, ...]} "
+                        "(a --boxes-file in JSON may hold them too)")
 
 
 def dancer_arguments(args: argparse.Namespace) -> dict:
-    """``boxes``, ``num_dancers``, ``starts`` and ``corrections`` for :func:`hdvr.tracking.pipeline.track_video`
-    from the options of :func:`add_dancer_arguments`."""
-    from hdvr.tracking.boxes import parse_boxes, parse_correction, read_corrections, read_start_boxes
-    from hdvr.tracking.pipeline import BoxCorrection, DancerStart
+    """``boxes``, ``num_dancers``, ``starts``, ``corrections`` and ``swaps`` for
+    :func:`hdvr.tracking.pipeline.track_video` from the options of :func:`add_dancer_arguments`."""
+    from hdvr.tracking.boxes import (parse_boxes, parse_correction, parse_swap, read_corrections, read_start_boxes,
+                                     read_swaps)
+    from hdvr.tracking.pipeline import BoxCorrection, DancerStart, IdentitySwap
 
     corrections = [parse_correction(text) for text in args.correct]
+    swaps = [parse_swap(text) for text in args.swap]
     if args.boxes_file:
         corrections += read_corrections(args.boxes_file, required=False)
+        swaps += read_swaps(args.boxes_file)
     if args.corrections:
-        corrections += read_corrections(args.corrections)
+        swaps += read_swaps(args.corrections)
+        corrections += read_corrections(args.corrections, required=not swaps)
     return {"boxes": parse_boxes(args.boxes) if args.boxes else None, "num_dancers": args.dancers,
             "starts": [DancerStart(f, b) for f, b in read_start_boxes(args.boxes_file)] if args.boxes_file else None,
-            "corrections": [BoxCorrection(f, i, b) for f, i, b in corrections]}
+            "corrections": [BoxCorrection(f, i, b) for f, i, b in corrections],
+            "swaps": [IdentitySwap(f, a, b) for f, a, b in swaps]}
 
 
 def make_detector(args: argparse.Namespace):

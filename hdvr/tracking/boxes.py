@@ -156,6 +156,43 @@ def parse_correction(text: str) -> tuple[int, int, tuple[float, float, float, fl
     return frame_index, dancer_id, parse_boxes(box)[0]
 
 
+def read_swaps(path: str | os.PathLike) -> list[tuple[int, int, int]]:
+    """Identity swaps from a JSON file's ``"swaps": [{"frame": F, "dancers": [a, b]}, ...]`` (0-based frame and ids
+    as ``hdvr track`` numbers them) as (frame, a, b) sorted by frame; none when the file has no "swaps" (any format
+    of :func:`read_start_boxes` or :func:`read_corrections`)."""
+    p, kind, content = _read_box_file(path)
+    items = content.get("swaps") if kind == "json" and isinstance(content, dict) else None
+    if items is None:
+        return []
+    if not isinstance(items, list):
+        raise HDVRError(f"file {p}: 'swaps' is not a list")
+    swaps = []
+    for item in items:
+        dancers = item.get("dancers") if isinstance(item, dict) else None
+        frame = item.get("frame") if isinstance(item, dict) else None
+        if not isinstance(dancers, list) or len(dancers) != 2 or not all(
+                isinstance(v, int) and not isinstance(v, bool) and v >= 0 for v in dancers + [frame]):
+            raise HDVRError(f"file {p}: expected each swap as {{\"frame\": F, \"dancers\": [a, b]}} (whole numbers "
+                            f">= 0), got {item!r}")
+        swaps.append((frame, dancers[0], dancers[1]))
+    return sorted(swaps, key=lambda s: s[0])
+
+
+def parse_swap(text: str) -> tuple[int, int, int]:
+    """``"A,B@FRAME"`` (0-based dancer ids and frame) -> (frame, a, b)."""
+    pair, at, frame = text.partition("@")
+    try:
+        a, b = (int(v) for v in pair.split(","))
+        frame_index = int(frame)
+        if not at:
+            raise ValueError
+    except ValueError:
+        raise HDVRError(f"cannot read swap {text!r}: expected A,B@FRAME (e.g. 0,1@240)") from None
+    if min(a, b, frame_index) < 0:
+        raise HDVRError(f"swap {text!r}: dancers and frames are counted from 0")
+    return frame_index, a, b
+
+
 def check_boxes_in_frame(boxes, size: tuple[int, int]) -> None:
     """Raise :class:`HDVRError` for a box that lies (mostly) outside a frame of ``size`` = (w, h)."""
     w, h = size

@@ -83,6 +83,17 @@ class BoxCorrection:
     box: tuple[float, float, float, float]
 
 
+@dataclass(frozen=True)
+class IdentitySwap:
+    """A user's identity swap: from 0-based ``frame`` on, dancers ``first`` and ``second`` (ids as numbered in the
+    outputs) exchange ids, where the overlay shows each box on the other dancer after a crossing. Only the ids
+    written change: each tracker keeps following the person it followed, with that person's memories."""
+
+    frame: int
+    first: int
+    second: int
+
+
 def find_dancers(video: str | os.PathLike, detector: PoseDetector, num_dancers: int, seconds: float = 3.0,
                  every: int = 3, min_iou: float = 0.3) -> list[DancerStart]:
     """The ``num_dancers`` people seen most often in the first ``seconds`` of ``video`` (detector on every
@@ -148,6 +159,22 @@ def check_corrections(corrections: list[BoxCorrection], starts: list[DancerStart
             check_boxes_in_frame([c.box], size)
         except HDVRError as exc:
             raise HDVRError(f"correction of dancer {c.dancer} at frame {c.frame}: {exc}") from None
+
+
+def check_swaps(swaps: list[IdentitySwap], starts: list[DancerStart], num_frames: int | None) -> None:
+    """Raise :class:`HDVRError` for a swap of a dancer with itself, of one that does not exist or has not started
+    by its frame, or one past the video's ``num_frames`` (None: unknown). ``starts``: sorted by frame."""
+    for s in swaps:
+        where = f"swap of dancers {s.first} and {s.second} at frame {s.frame}"
+        if s.first == s.second:
+            raise HDVRError(f"{where}: a dancer cannot swap with itself")
+        for i in (s.first, s.second):
+            if not 0 <= i < len(starts):
+                raise HDVRError(f"{where}: no dancer {i} (dancers are numbered 0 to {len(starts) - 1})")
+            if s.frame < starts[i].frame:
+                raise HDVRError(f"{where}: dancer {i} starts only at frame {starts[i].frame}")
+        if num_frames is not None and s.frame >= num_frames:
+            raise HDVRError(f"{where}: the video has {num_frames} frames (counted from 0)")
 
 
 def _pad(result: FrameResult, n: int) -> FrameResult:
@@ -234,7 +261,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
                 zoom_hidden: bool = True, hindsight: bool = True,
-                corrections: list[BoxCorrection] | None = None) -> TrackRun:
+                corrections: list[BoxCorrection] | None = None,
+                swaps: list[IdentitySwap] | None = None) -> TrackRun:
     """Track the dancers of ``video`` and estimate their 2D poses; write the outputs to ``out_dir``.
 
     ``boxes``: initial (x, y, w, h) px boxes in the first frame, or None to find ``num_dancers`` people with the
@@ -284,6 +312,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         raise HDVRError("no dancer to track")
     corrections = sorted(corrections or [], key=lambda c: c.frame)
     check_corrections(corrections, starts, info.num_frames or None, info.size)
+    swaps = sorted(swaps or [], key=lambda s: s.frame)
+    check_swaps(swaps, starts, info.num_frames or None)
+    order = list(range(len(starts)))  # order[j]: the tracker's index of the dancer written as id j (swaps)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     n = len(boxes)
@@ -327,10 +358,15 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 stepped = tracker.step(frame, detections=[p.box for p in people] if run_detector else None,
                                        weak_detections=[p.box for p in weak] if run_detector else None)
             new_ids = [tracker.add_dancer(frame, s.box, [p.box for p in people] if run_detector else None)
-                       for s in starts if s.frame == t]
+                       for s in starts if s.frame == t]  # a dancer not started yet was never swapped: id = index
+            for swap in swaps:
+                if swap.frame == t:
+                    order[swap.first], order[swap.second] = order[swap.second], order[swap.first]
+            written_id = {k: j for j, k in enumerate(order)}
             for i in new_ids:
                 front = tracker.hiding_dancer(i)
                 if front is not None:
+                    front = written_id[front]
                     hidden_starts.append((t, i, front))
                     print(f"hdvr: warning: dancer {i} starts mostly hidden behind dancer {front} (frame {t}): its "
                           f"colours are unknown until it comes out clear of the others, and it may be taken for "
@@ -338,10 +374,10 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                           f"where it is seen clearly (--correct {i}@FRAME:x,y,w,h)", file=sys.stderr)
             corrected = [c for c in corrections if c.frame == t]
             for c in corrected:
-                tracker.correct(frame, c.dancer, c.box, [p.box for p in people] if run_detector else None)
-                front = tracker.hiding_dancer(c.dancer)
+                tracker.correct(frame, order[c.dancer], c.box, [p.box for p in people] if run_detector else None)
+                front = tracker.hiding_dancer(order[c.dancer])
                 if front is not None:  # waits behind it again: hindsight keeps it near this offset from it
-                    hidden_starts.append((t, c.dancer, front))
+                    hidden_starts.append((t, c.dancer, written_id[front]))
             # the frame's result from step() holds unless dancers were added or corrected after it
             result = _pad(stepped if stepped is not None and not new_ids and not corrected else tracker.result(), n)
             stage["track"] += time.perf_counter() - tic
@@ -364,10 +400,11 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                     k = len(tracker.dancers)
                     result = _pad(tracker.extend_to_poses(frame, chosen[:k], selector.margins[:k]), n)
                 stage["select"] += time.perf_counter() - tic
-            all_boxes.append(result.boxes)
-            all_status.append(_reported_status(result, tracker))
-            all_conf.append(result.confidence)
-            all_kp.append(kp)
+            status = _reported_status(result, tracker)
+            all_boxes.append(result.boxes[order])  # rows by written id
+            all_status.append(tuple(status[k] for k in order))
+            all_conf.append(result.confidence[order])
+            all_kp.append(kp[order])
             detected.append(run_detector)
             t += 1
             bar.update(1)
@@ -400,7 +437,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
             "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts],
             "corrections": [{"frame": c.frame, "dancer": c.dancer, "box": [float(v) for v in c.box]}
-                            for c in corrections]})
+                            for c in corrections],
+            "swaps": [{"frame": s.frame, "dancers": [s.first, s.second]} for s in swaps]})
     if overlay and write:  # after the files that matter most
         if isinstance(failure, KeyboardInterrupt):  # stopped by the user: no second pass over the video, and no
             (out / "overlay.mp4").unlink(missing_ok=True)  # overlay of an earlier run beside these tracks
@@ -423,8 +461,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
 
 def write_overlay(video: str | os.PathLike, path: Path, run: TrackRun) -> Path:
     """Draw ``run``'s boxes, ids and keypoints (as written to the keypoint files) and each frame's number (for
-    ``--correct``) on the frames of ``video`` it covers and encode them to H.264 ``path``: a second pass over the video, so that the overlay shows the boxes
-    filled with hindsight. Frames that cannot be decoded end the overlay early; the frames drawn are kept."""
+    ``--correct``) on the frames of ``video`` it covers and encode them to H.264 ``path``: a second pass over the
+    video, so that the overlay shows the boxes filled with hindsight. Frames that cannot be decoded end the overlay
+    early; the frames drawn are kept."""
     frames = run.boxes.shape[0]
     bar = progress(total=frames, desc="overlay", unit="frame")
     try:
