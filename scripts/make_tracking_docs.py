@@ -9,7 +9,9 @@ person boxes of that frame in white. Writes one JPEG per (seed, clip, frame) int
 hindsight (right), for those of ``KEYPOINT_REACH`` one with the boxes filled and smoothed (left) and widened to
 the dancers' keypoints before the smoothing (right), for those of ``HEAD_REACH`` one with the boxes widened
 (left) and lowered to a full pose's head (right), and for those of ``START_OFFSET`` one with the boxes before
-(left) and after (right) a dancer waiting hidden behind another is moved towards her start offset, as written.
+(left) and after (right) a dancer waiting hidden behind another is moved towards her start offset, as written, and
+for those of ``CORRECTION`` one with the boxes as tracked (left) and after the first correction of the simulated user
+of ``scripts/bench_corrections.py`` (right), at the frame after it where the corrected dancer's box gains most.
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -52,6 +54,10 @@ HEAD_REACH = (
 #: (seed, clip index, genre, dancers, frame, picture name): a frame where a dancer waits hidden behind another
 START_OFFSET = (
     (906, 2, "hip_hop", 3, 44, "tracking_start_offset_s906_hip_hop_044.jpg"),
+)
+#: (seed, clip index, genre, dancers, picture name): a clip one correction mends
+CORRECTION = (
+    (1412, 2, "hip_hop", 3, "tracking_correction_s1412_hip_hop.jpg"),
 )
 #: (--only value, cases, the two of :func:`_hindsight_steps_case`'s boxes drawn, their titles, the step shown)
 STEP_PICTURES = (
@@ -202,11 +208,12 @@ def _write_two_runs(path: Path, video: Path, detector, frame_index: int, gt: np.
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
-    parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset"),
+    parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
+                                           "correction"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
-                             "the ones of a hidden dancer moved towards her start offset")
+                             "the ones of a hidden dancer moved towards her start offset, or the one of a correction")
     args = parser.parse_args(argv)
 
     from dataclasses import replace
@@ -246,7 +253,47 @@ def main(argv=None) -> int:
                 _write_two_runs(path, video, detector, frame_index, gt, tracked[panels], titles)
                 print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the {step}",
                       file=sys.stderr)
+        for seed, index, genre, n, name in CORRECTION if args.only in (None, "correction") else ():
+            frame_index, (t, dancer) = _write_correction(args.out / name, tmp, detector, seed, index, genre, n)
+            print(f"wrote {args.out / name}: seed {seed} {genre}, frame {frame_index}, without and with a correction "
+                  f"of dancer {dancer} at frame {t}", file=sys.stderr)
     return 0
+
+
+def _write_correction(path: Path, tmp: Path, detector, seed: int, index: int, genre: str, n: int):
+    """JPEG ``path``: clip ``index`` of ``seed`` as tracked and after the simulated user's first correction
+    (:func:`bench_corrections.next_corrections`), at the frame after it where the corrected dancer's IoU with its
+    ground truth gains most. Returns the frame drawn and (frame, ground-truth dancer) of the correction."""
+    from bench_corrections import next_corrections
+    from bench_track import _seen_truth
+
+    from hdvr.tracking.pipeline import BoxCorrection, track_video
+
+    gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
+    truth = _seen_truth(video.parent)[1]
+    plain = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
+                        write=False).boxes[:, np.argsort(order)]
+    fixes, _ = next_corrections(gt, plain, (truth[..., 2] > 0).mean(axis=2))
+    if not fixes:
+        raise SystemExit(f"seed {seed} {genre}: nothing for the simulated user to correct")
+    tracker_id = {j: k for k, j in enumerate(order)}
+    fixed = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
+                        write=False, corrections=[BoxCorrection(t, tracker_id[j], b) for t, j, b in fixes])
+    fixed = fixed.boxes[:, np.argsort(order)]
+    from hdvr.tracking.appearance import box_iou
+
+    t, j = fixes[0][:2]
+
+    def iou(boxes, k):
+        return box_iou(boxes[k, j], gt[k, j]) if np.isfinite(boxes[k, j]).all() and np.isfinite(gt[k, j]).all() else 0
+    frame_index = max(range(t + 1, len(gt)), key=lambda k: iou(fixed, k) - iou(plain, k))
+    frame, detections = _frame_and_detections(video, detector, frame_index)
+    both = np.concatenate([plain[frame_index], fixed[frame_index]])
+    pictures = [draw_case(frame, gt[frame_index], run[frame_index], detections, crop_boxes=both)
+                for run in (plain, fixed)]
+    _write_jpeg(path, _side_by_side(*pictures, (f"as tracked, frame {frame_index}",
+                                                f"dancer {j} corrected at frame {t}, frame {frame_index}")))
+    return frame_index, (t, j)
 
 
 if __name__ == "__main__":
