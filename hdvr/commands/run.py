@@ -3,7 +3,6 @@ genre)."""
 
 from __future__ import annotations
 
-
 from hdvr.commands.track import add_dancer_arguments, dancer_arguments
 
 
@@ -34,6 +33,7 @@ def register(subparsers) -> None:
 def run(args) -> int:
     from hdvr.fitting.presets import FitSettings
     from hdvr.pipeline import analyse_video, make_detector
+
     detector = make_detector(args.detector, args.detector_size, args.pose_model, args.openpose_json)
     settings = FitSettings(focal=args.focal) if args.focal else FitSettings()
     result = analyse_video(args.video, args.out, detector=detector, **dancer_arguments(args),

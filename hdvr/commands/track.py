@@ -61,7 +61,7 @@ def add_dancer_arguments(p) -> None:
     p.add_argument("--correct", action="append", default=[], metavar="DANCER@FRAME:x,y,w,h",
                    help="correct a dancer's box in a frame where the overlay shows it lost or taken for another "
                         "(0-based dancer id and frame, box in pixels; repeat for more): its tracker restarts "
-                        "there. After an identity switch, correct every dancer involved")
+                        "there. After an identity switch, --swap the two or correct every dancer involved")
     p.add_argument("--swap", action="append", default=[], metavar="A,B@FRAME",
                    help="exchange the ids of dancers A and B from FRAME on (0-based), where the overlay shows them "
                         "swapped after a crossing; repeat for more. No box needed: each tracker keeps its person")

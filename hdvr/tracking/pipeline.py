@@ -59,7 +59,8 @@ class TrackRun:
     cpu_seconds: float = 0.0  # CPU time of this process (all threads) during the run
     stage_seconds: dict = field(default_factory=dict)  # decode, detect, track, select, overlay
     hidden_starts: list = field(default_factory=list)  # (frame, dancer, dancer in front) per dancer whose start box
-    # lies mostly behind another dancer's (MultiDancerTracker.hiding_dancer): its colours are not its own
+    # lies mostly behind another dancer's (MultiDancerTracker.hiding_dancer): its colours are not its own; also per
+    # correction that puts a dancer straight behind another (it waits behind it from there)
     filled: np.ndarray | None = None  # (T, N) bool: box filled with hindsight
     # (:func:`hdvr.tracking.hindsight.fill_occluded`)
 
@@ -358,15 +359,15 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 stepped = tracker.step(frame, detections=[p.box for p in people] if run_detector else None,
                                        weak_detections=[p.box for p in weak] if run_detector else None)
             new_ids = [tracker.add_dancer(frame, s.box, [p.box for p in people] if run_detector else None)
-                       for s in starts if s.frame == t]  # a dancer not started yet was never swapped: id = index
+                       for s in starts if s.frame == t]
             for swap in swaps:
                 if swap.frame == t:
                     order[swap.first], order[swap.second] = order[swap.second], order[swap.first]
             written_id = {k: j for j, k in enumerate(order)}
-            for i in new_ids:
-                front = tracker.hiding_dancer(i)
+            for k in new_ids:
+                front = tracker.hiding_dancer(k)
                 if front is not None:
-                    front = written_id[front]
+                    i, front = written_id[k], written_id[front]  # swapped in its start frame: not its index
                     hidden_starts.append((t, i, front))
                     print(f"hdvr: warning: dancer {i} starts mostly hidden behind dancer {front} (frame {t}): its "
                           f"colours are unknown until it comes out clear of the others, and it may be taken for "
