@@ -15,7 +15,12 @@ at the overlay video and corrects it, then the clip is tracked again with all co
   two dancers each of whose boxes lies on the other's ground truth (IoU >= 0.5) there are swapped instead
   (``hdvr track --swap A,B@FRAME``: one action, no box drawn).
 
-The count of a round is the user's actions so far: boxes drawn plus swaps.
+With ``--points`` the user clicks on the dancer instead of drawing its box (``--correct DANCER@FRAME:x,y``): on
+the visible ground-truth keypoint nearest the middle of its visible keypoints; where the detector finds nobody
+there, the user draws the box after all (counted once), and where the box found is still wrong in the next run, the
+user draws it then (one more action).
+
+The count of a round is the user's actions so far: boxes drawn or points clicked, plus swaps.
 
 Tracks start from the ground-truth first boxes (as ``bench_track.py --sections synth``), YOLO11n-pose at 480 px
 on every 3rd frame, sure finds from 0.3, weak from 0.2, hindsight on: what ``hdvr track`` writes.
@@ -47,6 +52,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 import numpy as np  # noqa: E402
 
 from hdvr.tracking.appearance import box_iou  # noqa: E402
+from hdvr.errors import HDVRError  # noqa: E402
 from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
 from hdvr.tracking.pipeline import BoxCorrection, IdentitySwap, track_video  # noqa: E402
 from benchdoc import cpu_name  # noqa: E402
@@ -108,6 +114,35 @@ def next_corrections(gt: np.ndarray, boxes: np.ndarray, shown: np.ndarray, min_s
     return [(t, j, tuple(float(v) for v in gt[t, j])) for j in wrong if j not in swapped], pairs
 
 
+def click_point(keypoints: np.ndarray) -> tuple[float, float] | None:
+    """Where the simulated user clicks on a dancer: of its visible keypoints (``keypoints`` (25, 3) px with
+    confidence, 0 where hidden), the one nearest their mean; None if none is visible."""
+    seen = keypoints[(keypoints[:, 2] > 0) & np.isfinite(keypoints[:, :2]).all(axis=1), :2]
+    if not len(seen):
+        return None
+    nearest = seen[np.argmin(np.hypot(*(seen - seen.mean(axis=0)).T))]
+    return float(nearest[0]), float(nearest[1])
+
+
+def track_with_fallback(video: Path, out, detector, starts, corrections: list, swaps: list):
+    """``track_video`` with the user's corrections; a point on which the detector finds nobody is replaced by the
+    box it stood for (the ``box`` kept in ``BoxCorrection.box`` of ``corrections`` entries is then used: points are
+    given as (correction, box) pairs). Returns the run and the corrections as finally given."""
+    given = list(corrections)
+    while True:
+        try:
+            run = track_video(video, out, detector=detector, starts=starts, detect_every=3, overlay=False,
+                              write=False, corrections=[c for c, _ in given], swaps=swaps)
+            return run, given
+        except HDVRError as exc:
+            failed = [k for k, (c, _) in enumerate(given) if c.point is not None
+                      and f"correction of dancer {c.dancer} at frame {c.frame}: nobody detected" in str(exc)]
+            if not failed:
+                raise
+            c, box = given[failed[0]]
+            given[failed[0]] = (BoxCorrection(c.frame, c.dancer, box), box)
+
+
 def main() -> int:
     import bench_track as bt
     from hdvr.pose2d.models import default_pose_model
@@ -120,6 +155,7 @@ def main() -> int:
     parser.add_argument("--min-stretch", type=int, default=10)
     parser.add_argument("--min-visible", type=float, default=0.5)
     parser.add_argument("--swaps", action="store_true", help="swap pairs of dancers each on the other's place")
+    parser.add_argument("--points", action="store_true", help="click on each dancer instead of drawing its box")
     parser.add_argument("--per-clip-json", type=Path)
     parser.add_argument("--markdown", type=Path)
     args = parser.parse_args()
@@ -140,23 +176,32 @@ def main() -> int:
         shown = (truth[..., 2] > 0).mean(axis=2)
         order, starts = bt._starts_from_truth(gt)
         tracker_id = {j: k for k, j in enumerate(order)}
-        corrections: list[BoxCorrection] = []
+        corrections: list[tuple[BoxCorrection, tuple]] = []  # (as given, the box it stands for)
         swaps: list[IdentitySwap] = []
-        rounds = []
+        rounds, actions = [], 0
         with tempfile.TemporaryDirectory() as out:
             for _ in range(args.max_rounds + 1):
-                run = track_video(clip / "video.mp4", out, detector=detector, starts=starts, detect_every=3,
-                                  overlay=False, write=False, corrections=corrections, swaps=swaps)
+                run, corrections = track_with_fallback(clip / "video.mp4", out, detector, starts, corrections, swaps)
                 boxes = run.boxes[:, np.argsort(order)]  # written ids keep their ground-truth dancers: the
                 scores = evaluate_tracking(gt, boxes)  # swaps put the persons under them
                 rounds.append({"idf1": round(scores.idf1, 4), "switches": scores.id_switches,
-                               "corrections": len(corrections) + len(swaps), "swaps": len(swaps)})
+                               "corrections": actions, "swaps": len(swaps),
+                               "points": sum(c.point is not None for c, _ in corrections)})
                 if passes(scores.idf1, scores.id_switches):
                     break
                 new, pairs = next_corrections(gt, boxes, shown, args.min_stretch, args.min_visible, args.swaps)
                 if not (new or pairs) or len(rounds) > args.max_rounds:
                     break
-                corrections += [BoxCorrection(t, tracker_id[j], box) for t, j, box in new]
+                for t, j, box in new:
+                    actions += 1
+                    same = [k for k, (c, _) in enumerate(corrections) if (c.frame, c.dancer) == (t, tracker_id[j])]
+                    if same:  # a point there gave the wrong box: the user draws the box after all
+                        corrections[same[0]] = (BoxCorrection(t, tracker_id[j], box), box)
+                        continue
+                    point = click_point(truth[t, j]) if args.points else None
+                    given = BoxCorrection(t, tracker_id[j], None if point else box, point)
+                    corrections.append((given, box))
+                actions += len(pairs)
                 swaps += [IdentitySwap(t, tracker_id[a], tracker_id[b]) for t, a, b in pairs]
         name = f"{seed}:{index}"
         per_clip[name] = {"genre": genre, "dancers": n, "rounds": rounds,
@@ -177,8 +222,9 @@ def summary(per_clip: dict, args, seconds: float) -> list[str]:
     failing = {k: v for k, v in per_clip.items() if not passes(v["rounds"][0]["idf1"], v["rounds"][0]["switches"])}
     lines = [f"{len(per_clip)} clips, {len(failing)} failing without corrections (min stretch {args.min_stretch} "
              f"frames, dancer showing >= {args.min_visible:g} of its keypoints"
-             f"{', swaps' if getattr(args, 'swaps', False) else ''}; {cpu_name()}, {seconds / 60:.0f} min)",
-             "", "| corrections (boxes + swaps) | failing clips passing | IDF1 mean of the failing clips |",
+             f"{', swaps' if getattr(args, 'swaps', False) else ''}"
+             f"{', points clicked' if getattr(args, 'points', False) else ''}; {cpu_name()}, {seconds / 60:.0f} min)",
+             "", "| user actions (boxes, points, swaps) | failing clips passing | IDF1 mean of the failing clips |",
              "|---|---|---|"]
     most = max((r["corrections"] for v in failing.values() for r in v["rounds"]), default=0)
     for c in range(most + 1):

@@ -70,3 +70,16 @@ def test_summary_counts_the_clips_passing_after_each_number_of_corrections():
     assert "| <= 0 | 0 of 2 | 0.7500 |" in lines and "| <= 1 | 0 of 2 | 0.7500 |" in lines
     assert "| <= 2 | 1 of 2 | 0.8250 |" in lines
     assert lines[-1] == "Not mended: 3:4"
+
+
+def test_the_user_clicks_on_the_visible_keypoint_nearest_the_middle_of_the_body():
+    bc = _load()
+    kp = np.zeros((25, 3))
+    kp[[1, 8, 11], :2] = [(100.0, 50.0), (100.0, 110.0), (100.0, 250.0)]  # neck, mid-hip, ankle
+    kp[[1, 8, 11], 2] = 1.0
+    assert bc.click_point(kp) == (100.0, 110.0)  # the mid-hip: nearest the mean (100, 136.7)
+    kp[8, 2] = 0.0  # the hip hidden, a knee seen: the knee, nearest the mean (100, 170)
+    kp[10] = (100.0, 200.0, 1.0)
+    kp[11, :2] = (100.0, 260.0)
+    assert bc.click_point(kp) == (100.0, 200.0)
+    assert bc.click_point(np.zeros((25, 3))) is None

@@ -116,3 +116,18 @@ def test_read_swaps_and_parse_swap(tmp_path):
             parse_swap(text)
     with pytest.raises(HDVRError, match="counted from 0"):
         parse_swap("0,-1@3")
+
+
+def test_a_correction_may_give_a_point_instead_of_a_box(tmp_path):
+    from hdvr.tracking.boxes import parse_correction, read_corrections
+
+    assert parse_correction("1@120:300,80") == (120, 1, (300.0, 80.0))
+    (tmp_path / "fix.json").write_text(json.dumps({"corrections": [{"frame": 5, "dancer": 0, "point": [10, 20]}]}))
+    assert read_corrections(tmp_path / "fix.json") == [(5, 0, (10.0, 20.0))]
+    (tmp_path / "both.json").write_text(json.dumps({"corrections": [{"frame": 5, "dancer": 0, "point": [10, 20],
+                                                                     "box": [1, 2, 3, 4]}]}))
+    with pytest.raises(HDVRError, match="expected each correction"):
+        read_corrections(tmp_path / "both.json")
+    (tmp_path / "bad.json").write_text(json.dumps({"corrections": [{"frame": 5, "dancer": 0, "point": [10]}]}))
+    with pytest.raises(HDVRError, match="expected a point x,y"):
+        read_corrections(tmp_path / "bad.json")

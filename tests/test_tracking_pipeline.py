@@ -8,7 +8,7 @@ import pytest
 from hdvr.cli import main
 from hdvr.io.keypoints2d import load_keypoints2d
 from hdvr.tracking.boxes import read_mot, write_mot
-from hdvr.tracking.evaluation import evaluate_tracking
+from hdvr.tracking.evaluation import evaluate_tracking, iou_matrix
 from hdvr.tracking.pipeline import fill_between_detections
 from hdvr.tracking.testclips import FigureSpec, default_crossing_specs, render_clip
 from hdvr.video import VideoReader
@@ -31,6 +31,7 @@ def test_track_boxes_only(clip, tmp_path, capsys):
     assert main(["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "none"]) == 0
     captured = capsys.readouterr()
     assert "tracked 2 dancers over 60 frames" in captured.out
+    assert "--correct DANCER@FRAME:x,y" in captured.out and "--swap A,B@FRAME" in captured.out  # how to fix it
     assert "hidden" not in captured.err  # the figures start apart
     assert json.loads((out / "tracks.json").read_text())["hidden_starts"] == []
     mot = read_mot(out / "tracks.mot.txt", num_frames=60)
@@ -571,3 +572,61 @@ def test_a_swap_and_a_correction_in_one_frame_name_the_dancers_after_the_swap(cl
     written = read_mot(out / "tracks.mot.txt", num_frames=60)
     np.testing.assert_allclose(written[at, 0], truth.boxes[at, 1], atol=0.01)  # dancer 0 is now figure 1
     assert evaluate_tracking(truth.boxes[at:, [1, 0]], written[at:]).idf1 > 0.9
+
+
+def _openpose_folder(folder, truth, frames):
+    """The clip's true skeletons as precomputed OpenPose JSON, one file per frame."""
+    folder.mkdir()
+    for t in range(frames):
+        people = [{"pose_keypoints_2d": np.nan_to_num(truth.keypoints[t, i], nan=0.0).ravel().tolist()}
+                  for i in range(truth.keypoints.shape[1])]
+        (folder / f"f_{t:05d}_keypoints.json").write_text(json.dumps({"people": people}))
+    return folder
+
+
+def test_a_correction_by_a_point_takes_the_box_of_the_person_detected_there(clip, tmp_path, capsys):
+    """``--correct DANCER@FRAME:x,y``: the dancer restarts on the box of the person the detector finds at that point
+    (also on a frame the detector would skip); tracks.json keeps the point and the box found; a point on nobody, or
+    without a detector, is refused in one line."""
+    path, truth = clip
+    folder = _openpose_folder(tmp_path / "json", truth, 60)
+    wrong = truth.boxes[0].copy()
+    wrong[1, 1] = 2.0  # dancer 1 started mostly on background, as in the box-correction test
+    boxes_arg = ";".join(",".join(f"{v:g}" for v in b) for b in wrong)
+    at = 10  # not a detector frame with --detect-every 3
+    neck = truth.keypoints[at, 1, 1, :2]
+    out = tmp_path / "out"
+    base = ["track", str(path), "--out", str(out), "--boxes", boxes_arg, "--detector", "openpose", "--openpose-json",
+            str(folder), "--detect-every", "3", "--no-overlay"]
+    assert main(base + ["--correct", f"1@{at}:{neck[0]:.1f},{neck[1]:.1f}"]) == 0
+    doc = json.loads((out / "tracks.json").read_text())
+    (c,) = doc["corrections"]
+    assert c["frame"] == at and c["dancer"] == 1 and c["point"] == pytest.approx(list(neck), abs=0.05)
+    assert iou_matrix(np.array([c["box"]]), truth.boxes[at, 1][None])[0, 0] > 0.7
+    written = read_mot(out / "tracks.mot.txt", num_frames=60)
+    assert evaluate_tracking(truth.boxes[at:, 1:], written[at:, 1:]).idf1 > 0.9
+    capsys.readouterr()
+    assert main(base + ["--correct", f"1@{at}:2,2"]) == 2  # the top-left corner: nobody there
+    err = capsys.readouterr().err
+    assert f"correction of dancer 1 at frame {at}: nobody detected at (2, 2)" in err and len(err.splitlines()) == 1
+    assert main(["track", str(path), "--out", str(tmp_path / "none"), "--boxes", boxes_arg, "--detector", "none",
+                 "--no-overlay", "--correct", f"1@{at}:100,100"]) == 2
+    assert "a point needs a detector" in capsys.readouterr().err
+
+
+def test_person_at_picks_the_body_the_point_is_on_in_a_stack():
+    """Of two people whose boxes both hold the point, the one with a keypoint nearest to it; none if no box holds
+    it."""
+    from hdvr.pose2d.base import PersonPose
+    from hdvr.tracking.pipeline import person_at
+
+    def person(box, joints):
+        kp = np.zeros((17, 3))
+        kp[:len(joints), :2], kp[:len(joints), 2] = joints, 0.9
+        return PersonPose(kp, box, 0.9)
+
+    front = person((100.0, 100.0, 120.0, 300.0), [(160.0, 130.0), (160.0, 250.0)])
+    behind = person((140.0, 80.0, 60.0, 200.0), [(170.0, 95.0), (170.0, 150.0)])
+    assert person_at([front, behind], (172.0, 100.0)) == behind.box  # on the head behind
+    assert person_at([front, behind], (158.0, 240.0)) == front.box
+    assert person_at([front, behind], (20.0, 20.0)) is None

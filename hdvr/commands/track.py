@@ -60,8 +60,9 @@ def add_dancer_arguments(p) -> None:
                                                    "people detected in the first frames)")
     p.add_argument("--correct", action="append", default=[], metavar="DANCER@FRAME:x,y,w,h",
                    help="correct a dancer's box in a frame where the overlay shows it lost or taken for another "
-                        "(0-based dancer id and frame, box in pixels; repeat for more): its tracker restarts "
-                        "there. After an identity switch, --swap the two or correct every dancer involved")
+                        "(0-based dancer id and frame, box in pixels; or DANCER@FRAME:x,y, a point on the dancer, "
+                        "for the person the detector finds there; repeat for more): its tracker restarts there. "
+                        "After an identity switch, --swap the two or correct every dancer involved")
     p.add_argument("--swap", action="append", default=[], metavar="A,B@FRAME",
                    help="exchange the ids of dancers A and B from FRAME on (0-based), where the overlay shows them "
                         "swapped after a crossing; repeat for more. No box needed: each tracker keeps its person")
@@ -88,7 +89,8 @@ def dancer_arguments(args: argparse.Namespace) -> dict:
         corrections += read_corrections(args.corrections, required=not swaps)
     return {"boxes": parse_boxes(args.boxes) if args.boxes else None, "num_dancers": args.dancers,
             "starts": [DancerStart(f, b) for f, b in read_start_boxes(args.boxes_file)] if args.boxes_file else None,
-            "corrections": [BoxCorrection(f, i, b) for f, i, b in corrections],
+            "corrections": [BoxCorrection(f, i, b, None) if len(b) == 4 else BoxCorrection(f, i, None, b)
+                            for f, i, b in corrections],
             "swaps": [IdentitySwap(f, a, b) for f, a, b in swaps]}
 
 
@@ -119,4 +121,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"  dancer {i}: seen in {100 * seen[i]:.0f}% of frames{note}, pose in {100 * pose_found[i]:.0f}%")
     for path in result.outputs:
         print(f"  wrote {path}")
+    if result.boxes.shape[1] > 1 and any(p.name == "overlay.mp4" for p in result.outputs):
+        print("check overlay.mp4 (frame numbers top left); where a dancer is lost, run again with --correct "
+              "DANCER@FRAME:x,y (a point on it) or :x,y,w,h, where two swapped ids with --swap A,B@FRAME "
+              "(docs/tracking.md, 'Correcting the tracks')")
     return 0

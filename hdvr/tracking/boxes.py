@@ -107,26 +107,41 @@ def read_start_boxes(path: str | os.PathLike) -> list[tuple[int, tuple[float, fl
     return sorted(starts, key=lambda s: s[0])
 
 
-def _correction(item, where: str) -> tuple[int, int, tuple[float, float, float, float]]:
-    """One ``{"frame": F, "dancer": i, "box": [x, y, w, h]}`` -> (frame, dancer, box)."""
-    if not isinstance(item, dict) or not {"frame", "dancer", "box"} <= set(item):
+def _point(values, what: str) -> tuple[float, float]:
+    """Two numbers -> an (x, y) px point."""
+    try:
+        point = tuple(float(v) for v in values)
+    except (TypeError, ValueError):
+        point = ()
+    if len(point) != 2 or not all(np.isfinite(point)):
+        raise HDVRError(f"{what}: expected a point x,y (two numbers), got {values!r}")
+    return point
+
+
+def _correction(item, where: str) -> tuple[int, int, tuple[float, ...]]:
+    """One ``{"frame": F, "dancer": i, "box": [x, y, w, h]}`` (or ``"point": [x, y]``) -> (frame, dancer, box or
+    point)."""
+    if not isinstance(item, dict) or not {"frame", "dancer"} <= set(item) or ("box" in item) == ("point" in item):
         raise HDVRError(f"{where}: expected each correction as {{\"frame\": F, \"dancer\": i, \"box\": "
-                        f"[x, y, w, h]}}, got {item!r}")
-    frame, dancer, box = item["frame"], item["dancer"], item["box"]
+                        f"[x, y, w, h]}} or with \"point\": [x, y], got {item!r}")
+    frame, dancer = item["frame"], item["dancer"]
     for name, value in (("frame", frame), ("dancer", dancer)):
         if not isinstance(value, int) or isinstance(value, bool) or value < 0:
             raise HDVRError(f"{where}: correction {name} {value!r} is not a whole number >= 0")
+    if "point" in item:
+        return frame, dancer, _point(item["point"], f"{where}: correction point")
+    box = item["box"]
     if not isinstance(box, list):
         raise HDVRError(f"{where}: correction box {box!r} is not a list [x, y, w, h]")
     return frame, dancer, parse_boxes(",".join(str(v) for v in box))[0]
 
 
-def read_corrections(path: str | os.PathLike, required: bool = True
-                     ) -> list[tuple[int, int, tuple[float, float, float, float]]]:
+def read_corrections(path: str | os.PathLike, required: bool = True) -> list[tuple[int, int, tuple[float, ...]]]:
     """Corrections of the tracks from a JSON file: ``[{"frame": F, "dancer": i, "box": [x, y, w, h]}, ...]`` or
-    ``{"corrections": [...]}`` (0-based frames and dancer ids as ``hdvr track`` numbers them, boxes px), as
-    (frame, dancer, box) sorted by frame. ``required`` False: a boxes file without corrections (any format of
-    :func:`read_start_boxes`) gives an empty list instead of an error."""
+    ``{"corrections": [...]}`` (0-based frames and dancer ids as ``hdvr track`` numbers them, boxes px; ``"point":
+    [x, y]`` in place of the box names the person the detector finds there), as (frame, dancer, box or point)
+    sorted by frame. ``required`` False: a boxes file without corrections (any format of :func:`read_start_boxes`)
+    gives an empty list instead of an error."""
     p, kind, content = _read_box_file(path)
     items = content.get("corrections") if kind == "json" and isinstance(content, dict) else \
         content if kind == "json" and required else None
@@ -140,20 +155,23 @@ def read_corrections(path: str | os.PathLike, required: bool = True
     return sorted((_correction(item, f"corrections file {p}") for item in items), key=lambda c: c[0])
 
 
-def parse_correction(text: str) -> tuple[int, int, tuple[float, float, float, float]]:
-    """``"DANCER@FRAME:x,y,w,h"`` (0-based dancer id and frame, box px) -> (frame, dancer, box)."""
-    head, sep, box = text.partition(":")
+def parse_correction(text: str) -> tuple[int, int, tuple[float, ...]]:
+    """``"DANCER@FRAME:x,y,w,h"`` (0-based dancer id and frame, box px) or ``"DANCER@FRAME:x,y"`` (a point on the
+    dancer: the person the detector finds there) -> (frame, dancer, box or point)."""
+    head, sep, where = text.partition(":")
     dancer, at, frame = head.partition("@")
     try:
         if not sep or not at:
             raise ValueError
         dancer_id, frame_index = int(dancer), int(frame)
     except ValueError:
-        raise HDVRError(f"cannot read correction {text!r}: expected DANCER@FRAME:x,y,w,h (e.g. 1@120:300,80,90,260)"
-                        ) from None
+        raise HDVRError(f"cannot read correction {text!r}: expected DANCER@FRAME:x,y,w,h or DANCER@FRAME:x,y (e.g. "
+                        f"1@120:300,80,90,260)") from None
     if dancer_id < 0 or frame_index < 0:
         raise HDVRError(f"correction {text!r}: dancer and frame are counted from 0")
-    return frame_index, dancer_id, parse_boxes(box)[0]
+    if len([v for v in where.replace(" ", ",").split(",") if v]) == 2:
+        return frame_index, dancer_id, _point(where.replace(" ", ",").split(","), f"correction {text!r}")
+    return frame_index, dancer_id, parse_boxes(where)[0]
 
 
 def read_swaps(path: str | os.PathLike) -> list[tuple[int, int, int]]:

@@ -21,7 +21,7 @@ import itertools
 import os
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -76,12 +76,14 @@ class DancerStart:
 @dataclass(frozen=True)
 class BoxCorrection:
     """A user's correction: in 0-based ``frame``, dancer ``dancer`` (0-based, as numbered in the outputs) is at
-    ``box`` = (x, y, w, h) px. Its tracker restarts there (:meth:`MultiDancerTracker.correct`) and the box is
-    written as given."""
+    ``box`` = (x, y, w, h) px, or (``box`` None) is the person the detector finds at ``point`` = (x, y) px in that
+    frame (:func:`person_at`). Its tracker restarts there (:meth:`MultiDancerTracker.correct`) and the box is
+    written as given (or as found)."""
 
     frame: int
     dancer: int
-    box: tuple[float, float, float, float]
+    box: tuple[float, float, float, float] | None
+    point: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -138,13 +140,44 @@ def find_dancers(video: str | os.PathLike, detector: PoseDetector, num_dancers: 
     return [tr["start"] for tr in chosen]
 
 
+def person_at(people, point) -> tuple[float, float, float, float] | None:
+    """The box (x, y, w, h px) of the person among ``people`` (:class:`PersonPose`) that a user pointed at with
+    ``point`` = (x, y) px: of those whose box holds the point, the one with a found keypoint nearest to it (in a
+    stack the boxes of several people hold it; the keypoints tell whose body it is on), then the smaller box. None
+    if no box holds it."""
+    x, y = point
+    best, best_key = None, None
+    for p in people:
+        bx, by, bw, bh = p.box
+        if not (bx <= x <= bx + bw and by <= y <= by + bh):
+            continue
+        kp = np.asarray(p.keypoints, float)
+        found = kp[(kp[:, 2] > 0) & np.isfinite(kp[:, :2]).all(axis=1), :2]
+        distance = float(np.hypot(*(found - (x, y)).T).min()) if len(found) else np.inf
+        key = (distance, bw * bh)
+        if best_key is None or key < best_key:
+            best, best_key = tuple(float(v) for v in p.box), key
+    return best
+
+
 def check_corrections(corrections: list[BoxCorrection], starts: list[DancerStart], num_frames: int | None,
-                      size: tuple[int, int]) -> None:
+                      size: tuple[int, int], has_detector: bool = True) -> None:
     """Raise :class:`HDVRError` for a correction of a dancer that does not exist or has not started by its frame,
-    one past the video's ``num_frames`` (None: unknown), one box given twice in a frame, or a box outside a frame
-    of ``size`` = (w, h) px. ``starts``: sorted by frame, as the dancers are numbered."""
+    one past the video's ``num_frames`` (None: unknown), one dancer given twice in a frame, a box (or point)
+    outside a frame of ``size`` = (w, h) px, or a point without a detector to find the person there
+    (``has_detector``). ``starts``: sorted by frame, as the dancers are numbered."""
     seen = set()
     for c in corrections:
+        if (c.box is None) == (c.point is None):
+            raise HDVRError(f"correction of dancer {c.dancer} at frame {c.frame}: give a box or a point, not "
+                            f"{'both' if c.box is not None else 'neither'}")
+        if c.point is not None:
+            if not has_detector:
+                raise HDVRError(f"correction of dancer {c.dancer} at frame {c.frame}: a point needs a detector to "
+                                f"find the person there; give the box x,y,w,h")
+            if not (0 <= c.point[0] < size[0] and 0 <= c.point[1] < size[1]):
+                raise HDVRError(f"correction of dancer {c.dancer} at frame {c.frame}: point ({c.point[0]:g}, "
+                                f"{c.point[1]:g}) lies outside the {size[0]}x{size[1]} frame")
         if not 0 <= c.dancer < len(starts):
             raise HDVRError(f"correction at frame {c.frame}: no dancer {c.dancer} (dancers are numbered 0 to "
                             f"{len(starts) - 1})")
@@ -157,7 +190,8 @@ def check_corrections(corrections: list[BoxCorrection], starts: list[DancerStart
             raise HDVRError(f"dancer {c.dancer} is corrected twice at frame {c.frame}")
         seen.add((c.frame, c.dancer))
         try:
-            check_boxes_in_frame([c.box], size)
+            if c.box is not None:
+                check_boxes_in_frame([c.box], size)
         except HDVRError as exc:
             raise HDVRError(f"correction of dancer {c.dancer} at frame {c.frame}: {exc}") from None
 
@@ -312,7 +346,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     if not boxes:
         raise HDVRError("no dancer to track")
     corrections = sorted(corrections or [], key=lambda c: c.frame)
-    check_corrections(corrections, starts, info.num_frames or None, info.size)
+    check_corrections(corrections, starts, info.num_frames or None, info.size, has_detector=detector is not None)
     swaps = sorted(swaps or [], key=lambda s: s.frame)
     check_swaps(swaps, starts, info.num_frames or None)
     order = list(range(len(starts)))  # order[j]: the tracker's index of the dancer written as id j (swaps)
@@ -374,6 +408,16 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                           f"dancer {front}; check it in the overlay video, and if it is, give it its box in a frame "
                           f"where it is seen clearly (--correct {i}@FRAME:x,y,w,h)", file=sys.stderr)
             corrected = [c for c in corrections if c.frame == t]
+            if any(c.point is not None for c in corrected):
+                found = people + weak if run_detector else detector.detect(frame, t)  # pointed at: whose box?
+                for k, c in enumerate(corrections):
+                    if c.frame == t and c.point is not None:
+                        box = person_at(found, c.point)
+                        if box is None:
+                            raise HDVRError(f"correction of dancer {c.dancer} at frame {t}: nobody detected at "
+                                            f"({c.point[0]:g}, {c.point[1]:g}); give the box x,y,w,h instead")
+                        corrections[k] = replace(c, box=box)
+                corrected = [c for c in corrections if c.frame == t]
             for c in corrected:
                 tracker.correct(frame, order[c.dancer], c.box, [p.box for p in people] if run_detector else None)
                 front = tracker.hiding_dancer(order[c.dancer])
@@ -429,15 +473,17 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     if hindsight:
         run.boxes, run.filled = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=info.size[0],
                                                 hidden_starts=hidden_starts)
-    for c in corrections:  # written as the user gave them
-        if c.frame < len(run.boxes):
+    for c in corrections:  # written as the user gave them (or as found where the user pointed)
+        if c.frame < len(run.boxes) and c.box is not None:
             run.boxes[c.frame, c.dancer] = c.box
             run.filled[c.frame, c.dancer] = False
     if write:
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
             "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts],
-            "corrections": [{"frame": c.frame, "dancer": c.dancer, "box": [float(v) for v in c.box]}
+            "corrections": [{"frame": c.frame, "dancer": c.dancer,
+                             "box": None if c.box is None else [float(v) for v in c.box],
+                             **({} if c.point is None else {"point": [float(v) for v in c.point]})}
                             for c in corrections],
             "swaps": [{"frame": s.frame, "dancers": [s.first, s.second]} for s in swaps]})
     if overlay and write:  # after the files that matter most
