@@ -54,6 +54,7 @@ import numpy as np  # noqa: E402
 from hdvr.tracking.appearance import box_iou  # noqa: E402
 from hdvr.errors import HDVRError  # noqa: E402
 from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
+from hdvr.tracking.hindsight import _runs  # noqa: E402  (runs of True in a mask: the stretches hindsight fills)
 from hdvr.tracking.pipeline import BoxCorrection, IdentitySwap, track_video  # noqa: E402
 from benchdoc import cpu_name  # noqa: E402
 
@@ -74,17 +75,9 @@ def wrong_frames(gt: np.ndarray, boxes: np.ndarray, min_stretch: int) -> np.ndar
     bad = present & (iou < 0.5)
     out = np.zeros_like(bad)
     for j in range(bad.shape[1]):
-        t = 0
-        while t < len(bad):
-            if not bad[t, j]:
-                t += 1
-                continue
-            end = t
-            while end < len(bad) and bad[end, j]:
-                end += 1
-            if end - t >= min_stretch:
-                out[t:end, j] = True
-            t = end
+        for first, last in _runs(bad[:, j]):
+            if last + 1 - first >= min_stretch:
+                out[first:last + 1, j] = True
     return out
 
 

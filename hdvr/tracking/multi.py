@@ -396,10 +396,8 @@ class MultiDancerTracker(ReportedExtent):
             if o.start_frame == self.frame_index:
                 o.size_ratio = None
         # in a stack the ratio is learned later, from a detection while clear (:meth:`_adapt_box`)
-        ious = [] if stacked else [box_iou(b, det) for det in detections or []]
-        if ious and max(ious) > 0.5:
-            detected = np.array(detections[int(np.argmax(ious))][2:], float)
-            d.size_ratio = self._size_ratio(np.array(b[2:]), detected)
+        if not stacked:
+            d.size_ratio = self._ratio_to_detection(b, detections)
         d.centers.append(d.body_center)
         for o in self.dancers:  # the new dancer behind one, or one started in this frame behind the new one
             if o.status == OUT:
@@ -447,23 +445,33 @@ class MultiDancerTracker(ReportedExtent):
                      and self._straight_in_front(o, d, self.config.hidden_start_overlap)]
             if front:
                 d.hidden_behind = front[0].dancer_id
-        mask = None
-        if others and d.hidden_behind is None:  # colours of the dancers overlapping it left out (a dancer that
-            # waits keeps those of its whole box, as at a start: its emergence tests expect the front dancer's)
-            mask = np.full(frame.shape[:2], 255, np.uint8)
-            for o in others:
-                core = clip_box(self._core(o.box), (frame.shape[1], frame.shape[0]))
-                if core is not None:
-                    x0, y0, x1, y1 = core
-                    mask[y0:y1, x0:x1] = 0
+        # colours of the dancers overlapping it left out (a dancer that waits keeps those of its whole box, as at a
+        # start: its emergence tests expect the front dancer's)
+        mask = self._outside_cores(frame, others) if others and d.hidden_behind is None else None
         hist = colour_histogram(frame, b, mask=mask)
         if hist is not None:
             d.stored_histogram = hist
-        ious = [] if others else [box_iou(b, det) for det in detections or []]
-        d.size_ratio = None  # learned again from a detection while clear (:meth:`_adapt_box`)
-        if ious and max(ious) > 0.5:
-            detected = np.array(detections[int(np.argmax(ious))][2:], float)
-            d.size_ratio = self._size_ratio(np.array(b[2:]), detected)
+        # over others the ratio is learned again from a detection while clear (:meth:`_adapt_box`)
+        d.size_ratio = None if others else self._ratio_to_detection(b, detections)
+
+    def _ratio_to_detection(self, box, detections) -> np.ndarray | None:
+        """:meth:`_size_ratio` of ``box`` to the one of ``detections`` ((x, y, w, h) px) on it (IoU > 0.5, the
+        best), or None where none is."""
+        ious = [box_iou(box, det) for det in detections or []]
+        if not ious or max(ious) <= 0.5:
+            return None
+        return self._size_ratio(np.array(box[2:]), np.array(detections[int(np.argmax(ious))][2:], float))
+
+    def _outside_cores(self, frame, dancers: list[DancerTrack]) -> np.ndarray:
+        """uint8 mask of ``frame``: 255 except on the body cores of ``dancers`` (0), to take a histogram of what
+        lies outside them."""
+        mask = np.full(frame.shape[:2], 255, np.uint8)
+        for o in dancers:
+            core = clip_box(self._core(o.box), (frame.shape[1], frame.shape[0]))
+            if core is not None:
+                x0, y0, x1, y1 = core
+                mask[y0:y1, x0:x1] = 0
+        return mask
 
     def _seen_at_start(self, frame, d: DancerTrack, everyone: list[DancerTrack], detections) -> None:
         """Dancer ``d``, starting mostly behind dancer ``d.hidden_behind``, does not wait to come out when one of
@@ -480,12 +488,7 @@ class MultiDancerTracker(ReportedExtent):
 
         if sum(shows_d(det) for det in detections) != 1:
             return
-        mask = np.full(frame.shape[:2], 255, np.uint8)  # the front dancer's body core left out
-        core = clip_box(self._core(front.box), (frame.shape[1], frame.shape[0]))
-        if core is not None:
-            x0, y0, x1, y1 = core
-            mask[y0:y1, x0:x1] = 0
-        hist = colour_histogram(frame, d.box, mask=mask)
+        hist = colour_histogram(frame, d.box, mask=self._outside_cores(frame, [front]))
         if hist is not None and histogram_similarity(hist, front.stored_histogram) < c.reid_similarity:
             d.hidden_behind, d.stored_histogram = None, hist
 

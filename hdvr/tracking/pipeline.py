@@ -160,6 +160,18 @@ def person_at(people, point) -> tuple[float, float, float, float] | None:
     return best
 
 
+def _check_dancer_at(where: str, dancer: int, frame: int, starts: list[DancerStart], num_frames: int | None) -> None:
+    """Raise :class:`HDVRError` (message starting with ``where``) unless ``dancer`` exists and has started by
+    ``frame`` (``starts`` sorted by frame, as the dancers are numbered) and ``frame`` is within the video's
+    ``num_frames`` (None: unknown)."""
+    if not 0 <= dancer < len(starts):
+        raise HDVRError(f"{where}: no dancer {dancer} (dancers are numbered 0 to {len(starts) - 1})")
+    if frame < starts[dancer].frame:
+        raise HDVRError(f"{where}: dancer {dancer} starts only at frame {starts[dancer].frame}")
+    if num_frames is not None and frame >= num_frames:
+        raise HDVRError(f"{where}: the video has {num_frames} frames (counted from 0)")
+
+
 def check_corrections(corrections: list[BoxCorrection], starts: list[DancerStart], num_frames: int | None,
                       size: tuple[int, int], has_detector: bool = True) -> None:
     """Raise :class:`HDVRError` for a correction of a dancer that does not exist or has not started by its frame,
@@ -178,14 +190,7 @@ def check_corrections(corrections: list[BoxCorrection], starts: list[DancerStart
             if not (0 <= c.point[0] < size[0] and 0 <= c.point[1] < size[1]):
                 raise HDVRError(f"correction of dancer {c.dancer} at frame {c.frame}: point ({c.point[0]:g}, "
                                 f"{c.point[1]:g}) lies outside the {size[0]}x{size[1]} frame")
-        if not 0 <= c.dancer < len(starts):
-            raise HDVRError(f"correction at frame {c.frame}: no dancer {c.dancer} (dancers are numbered 0 to "
-                            f"{len(starts) - 1})")
-        if c.frame < starts[c.dancer].frame:
-            raise HDVRError(f"correction at frame {c.frame}: dancer {c.dancer} starts only at frame "
-                            f"{starts[c.dancer].frame}")
-        if num_frames is not None and c.frame >= num_frames:
-            raise HDVRError(f"correction at frame {c.frame}: the video has {num_frames} frames (counted from 0)")
+        _check_dancer_at(f"correction at frame {c.frame}", c.dancer, c.frame, starts, num_frames)
         if (c.frame, c.dancer) in seen:
             raise HDVRError(f"dancer {c.dancer} is corrected twice at frame {c.frame}")
         seen.add((c.frame, c.dancer))
@@ -204,12 +209,7 @@ def check_swaps(swaps: list[IdentitySwap], starts: list[DancerStart], num_frames
         if s.first == s.second:
             raise HDVRError(f"{where}: a dancer cannot swap with itself")
         for i in (s.first, s.second):
-            if not 0 <= i < len(starts):
-                raise HDVRError(f"{where}: no dancer {i} (dancers are numbered 0 to {len(starts) - 1})")
-            if s.frame < starts[i].frame:
-                raise HDVRError(f"{where}: dancer {i} starts only at frame {starts[i].frame}")
-        if num_frames is not None and s.frame >= num_frames:
-            raise HDVRError(f"{where}: the video has {num_frames} frames (counted from 0)")
+            _check_dancer_at(where, i, s.frame, starts, num_frames)
 
 
 def _pad(result: FrameResult, n: int) -> FrameResult:
