@@ -2,7 +2,8 @@
 
 Outputs in ``out_dir`` (every file written atomically; a dancer whose stage fails keeps what came before):
 
-- ``overlay.mp4``, ``tracks.mot.txt``, ``tracks.json``, ``dancer_<i>.npz``: tracking and 2D poses (:mod:`hdvr.tracking`)
+- ``overlay.mp4``, ``timeline.png``, ``tracks.mot.txt``, ``tracks.json``, ``dancer_<i>.npz``: tracking and 2D poses
+  (:mod:`hdvr.tracking`)
 - ``dancer_<i>.result3d.npz``: the fitted digital dancer (:mod:`hdvr.fitting`, 3D result contract)
 - ``dancer_<i>.bvh``: the fitted motion for Blender (Y up, centimetres)
 - ``dancer_<i>.labels.json`` and ``dancer_<i>.score.png``: body-part movements and their score (:mod:`hdvr.movements`)

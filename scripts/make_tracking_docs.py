@@ -209,11 +209,12 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
-                                           "correction"),
+                                           "correction", "timeline"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
-                             "the ones of a hidden dancer moved towards her start offset, or the one of a correction")
+                             "the ones of a hidden dancer moved towards her start offset, the one of a correction, or "
+                             "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip")
     args = parser.parse_args(argv)
 
     from dataclasses import replace
@@ -257,7 +258,40 @@ def main(argv=None) -> int:
             frame_index, (t, dancer) = _write_correction(args.out / name, tmp, detector, seed, index, genre, n)
             print(f"wrote {args.out / name}: seed {seed} {genre}, frame {frame_index}, without and with a correction "
                   f"of dancer {dancer} at frame {t}", file=sys.stderr)
+        for seed, index, genre, n, name in CORRECTION if args.only in (None, "timeline") else ():
+            for path in _write_timeline_and_frame(args.out, tmp, detector, seed, index, genre, n):
+                print(f"wrote {path}: seed {seed} {genre}", file=sys.stderr)
     return 0
+
+
+def _write_timeline_and_frame(out: Path, tmp: Path, detector, seed: int, index: int, genre: str, n: int):
+    """What a user works with to correct clip ``index`` of ``seed``: the frame of the simulated user's first
+    correction as ``hdvr frame`` draws it from the tracks (pixel grid, boxes, ids), and the ``timeline.png`` of the
+    run with that correction (dancers numbered in the order they start, as ``hdvr track`` numbers them)."""
+    import shutil
+
+    from bench_corrections import next_corrections
+    from bench_track import _seen_truth
+
+    from hdvr.cli import main as hdvr_main
+    from hdvr.tracking.pipeline import BoxCorrection, track_video
+
+    gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
+    truth = _seen_truth(video.parent)[1]
+    plain = track_video(video, tmp / "plain", detector=detector, starts=starts, detect_every=3, overlay=False)
+    fixes, _ = next_corrections(gt, plain.boxes[:, np.argsort(order)], (truth[..., 2] > 0).mean(axis=2))
+    if not fixes:
+        raise SystemExit(f"seed {seed} {genre}: nothing for the simulated user to correct")
+    tracker_id = {j: k for k, j in enumerate(order)}
+    t = fixes[0][0]
+    frame_path = out / f"tracking_frame_s{seed}_{genre}_{t:03d}.jpg"
+    if hdvr_main(["frame", str(video), str(t), "--tracks", str(tmp / "plain"), "--out", str(frame_path)]):
+        raise SystemExit("hdvr frame failed")
+    track_video(video, tmp / "fixed", detector=detector, starts=starts, detect_every=3, overlay=False,
+                corrections=[BoxCorrection(f, tracker_id[j], b) for f, j, b in fixes])
+    timeline_path = out / f"tracking_timeline_s{seed}_{genre}.png"
+    shutil.copyfile(tmp / "fixed" / "timeline.png", timeline_path)
+    return frame_path, timeline_path
 
 
 def _write_correction(path: Path, tmp: Path, detector, seed: int, index: int, genre: str, n: int):

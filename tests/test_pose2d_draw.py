@@ -1,8 +1,9 @@
-"""hdvr.pose2d.draw: the overlay of boxes, ids, skeletons and the frame number."""
+"""hdvr.pose2d.draw: the overlay of boxes, ids, skeletons and the frame number; the pixel grid."""
 
 import numpy as np
+import pytest
 
-from hdvr.pose2d.draw import dancer_colour, draw_overlay
+from hdvr.pose2d.draw import dancer_colour, draw_overlay, draw_pixel_grid
 
 
 def _frame():
@@ -29,3 +30,16 @@ def test_the_frame_number_is_stamped_top_left_only_when_given():
     assert (corner == 0).all(axis=2).any() and (corner == 255).all(axis=2).any()  # white text on black
     np.testing.assert_array_equal(plain[:20, :60], _frame()[:20, :60])
     np.testing.assert_array_equal(stamped[60:], plain[60:])  # the rest is the same
+
+
+def test_the_pixel_grid_draws_white_lines_at_every_step_and_labels_them():
+    frame = draw_pixel_grid(_frame(), step=100)
+    assert (frame[:, 100] == 255).all() and (frame[:, 200] == 255).all()  # full lines at x = 100, 200
+    assert (frame[100, :] == 255).all() and (frame[200, 10:] == 255).all()
+    faint = frame[10:90, 50]  # the half-way line is a blend, lighter than the frame
+    assert (faint > 128).all() and (faint < 255).all()
+    assert (frame[30:40, 120:130] == 128).all()  # between lines the frame is untouched
+    labels = frame[225:240, 100:140]  # "100" at the bottom edge, white on a dark outline
+    assert (labels < 64).all(axis=2).any() and (labels > 200).all(axis=2).any()
+    with pytest.raises(ValueError, match="grid step"):
+        draw_pixel_grid(_frame(), step=5)

@@ -5,7 +5,7 @@ import pytest
 
 from hdvr.errors import HDVRError
 from hdvr.tracking.boxes import (check_boxes_in_frame, parse_boxes, read_boxes_file, read_mot, read_start_boxes,
-                                 write_mot, write_tracks_json)
+                                 read_tracks_json, write_mot, write_tracks_json)
 
 
 def test_parse_boxes():
@@ -40,6 +40,25 @@ def test_tracks_json(tmp_path):
     doc = json.loads((tmp_path / "t.json").read_text())
     assert doc["dancers"][0]["boxes"] == [[1, 2, 3, 4], None]
     assert doc["image_size"] == [64, 48]
+
+
+def test_tracks_json_reads_back_what_was_written_and_names_what_is_wrong(tmp_path):
+    tracks = np.array([[[1, 2, 3, 4], [np.nan] * 4], [[5, 6, 7, 8], [9, 10, 11, 12]]], float)
+    status = [("tracked", "absent"), ("occluded", "hidden")]
+    write_tracks_json(tmp_path / "tracks.json", tracks, status, 25.0, (64, 48), extra={"swaps": []})
+    for where in (tmp_path / "tracks.json", tmp_path):  # the file, or hdvr track's output folder
+        back = read_tracks_json(where)
+        np.testing.assert_array_equal(back.boxes, tracks)
+        assert back.status == status and back.fps == 25.0 and back.image_size == (64, 48)
+    doc = json.loads((tmp_path / "tracks.json").read_text())
+    doc["dancers"][1]["boxes"].pop()
+    (tmp_path / "short.json").write_text(json.dumps(doc))
+    (tmp_path / "other.json").write_text(json.dumps({"format": "something-else"}))
+    (tmp_path / "bad.json").write_text("{not json")
+    for name, message in {"short.json": "dancer 1 has 1 boxes", "other.json": "expected 'hdvr-tracks-1'",
+                          "bad.json": "cannot read tracks file", "missing.json": "tracks file not found"}.items():
+        with pytest.raises(HDVRError, match=message):
+            read_tracks_json(tmp_path / name)
 
 
 def test_boxes_outside_frame():

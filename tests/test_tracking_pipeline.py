@@ -43,6 +43,7 @@ def test_track_boxes_only(clip, tmp_path, capsys):
     assert kp.keypoints.shape == (60, 25, 3) and kp.image_size == (640, 480)
     overlay = VideoReader(out / "overlay.mp4")
     assert overlay.info.size == (640, 480) and sum(1 for _ in overlay) == 60
+    assert (out / "timeline.png").stat().st_size > 0 and "wrote" in captured.out and "timeline.png" in captured.out
 
 
 def _walker_behind_still():

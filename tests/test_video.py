@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from hdvr.errors import HDVRError
-from hdvr.video import VideoReader, VideoWriter, probe_video
+from hdvr.video import VideoReader, VideoWriter, probe_video, read_frame
 
 
 def _frames(n=12, size=(97, 64)):
@@ -17,12 +17,16 @@ def _frames(n=12, size=(97, 64)):
     return [np.roll(base, 2 * i, axis=1) for i in range(n)]
 
 
-def test_h264_round_trip_odd_size(tmp_path):
-    frames = _frames()
-    path = tmp_path / "out.mp4"
+def _write(path, frames):
     with VideoWriter(path, fps=25.0, size=(97, 64), crf=12) as writer:
         for f in frames:
             writer.write(f)
+
+
+def test_h264_round_trip_odd_size(tmp_path):
+    frames = _frames()
+    path = tmp_path / "out.mp4"
+    _write(path, frames)
     assert not list(tmp_path.glob(".out.mp4*")), "temporary file removed"
     import av
 
@@ -160,3 +164,16 @@ def test_a_file_that_is_no_video_gives_one_error_line_with_libav_s_reason(tmp_pa
     assert proc.returncode != 0
     assert proc.stderr.strip().splitlines() == [
         f"hdvr: error: cannot read video {junk}: not a video file or corrupt (moov atom not found)"]
+
+
+def test_read_frame_gives_exactly_the_numbered_frame_and_names_one_past_the_end(tmp_path):
+    frames = _frames()
+    path = tmp_path / "v.mp4"
+    _write(path, frames)
+    decoded = list(VideoReader(path))
+    for index in (0, 5, len(frames) - 1):
+        np.testing.assert_array_equal(read_frame(path, index), decoded[index])
+    with pytest.raises(HDVRError, match=r"frame 12 is past the end of v.mp4 \(12 frames, 0-11\)"):
+        read_frame(path, 12)
+    with pytest.raises(HDVRError, match="counted from 0"):
+        read_frame(path, -1)

@@ -10,8 +10,8 @@ def register(subparsers) -> None:
         "track", help="track every dancer and estimate their 2D poses",
         description="Track the dancers of a video through occlusions (LDES-style tracker + Algorithm 1*) and pick "
                     "each dancer's 2D pose per frame (multi-person detector + Algorithm 2*). Writes "
-                    "dancer_<i>.npz (BODY_25 2D keypoints, input of 'hdvr fit3d'), tracks.mot.txt, tracks.json "
-                    "and overlay.mp4 to --out.")
+                    "dancer_<i>.npz (BODY_25 2D keypoints, input of 'hdvr fit3d'), tracks.mot.txt, tracks.json, "
+                    "overlay.mp4 and timeline.png to --out.")
     p.add_argument("video", help="input video (mp4, avi, mov, webm, mkv)")
     p.add_argument("--out", required=True, help="output folder")
     add_dancer_arguments(p)
@@ -44,6 +44,8 @@ def register(subparsers) -> None:
                         "chosen for them (widened to them, lowered to a full pose's head), no smoothing over time "
                         "(see docs/tracking.md)")
     p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")
+    p.add_argument("--no-timeline", action="store_true",
+                   help="do not write timeline.png (each dancer's status and found keypoints over the frames)")
     p.add_argument("--max-frames", type=int, default=None, help="stop after this many frames")
     p.set_defaults(func=run)
 
@@ -109,7 +111,8 @@ def run(args: argparse.Namespace) -> int:
     detector = make_detector(args)
     result = track_video(args.video, args.out, detector=detector, detect_every=args.detect_every,
                          overlay=not args.no_overlay, max_frames=args.max_frames, zoom_hidden=not args.no_zoom,
-                         hindsight=not args.no_hindsight, **dancers)
+                         hindsight=not args.no_hindsight, timeline=not args.no_timeline,
+                         **dancers)
     frames = result.boxes.shape[0]
     seen = tracked_fraction(result)
     pose_found = (result.keypoints[..., 2] > 0).any(axis=2).mean(axis=0)
@@ -121,8 +124,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"  dancer {i}: seen in {100 * seen[i]:.0f}% of frames{note}, pose in {100 * pose_found[i]:.0f}%")
     for path in result.outputs:
         print(f"  wrote {path}")
-    if result.boxes.shape[1] > 1 and any(p.name == "overlay.mp4" for p in result.outputs):
-        print("check overlay.mp4 (frame numbers top left); where a dancer is lost, run again with --correct "
-              "DANCER@FRAME:x,y (a point on it) or :x,y,w,h, where two swapped ids with --swap A,B@FRAME "
-              "(docs/tracking.md, 'Correcting the tracks')")
+    if result.boxes.shape[1] > 1 and any(p.name in ("overlay.mp4", "timeline.png") for p in result.outputs):
+        print(f"check overlay.mp4 (frame numbers top left) and timeline.png (where each dancer was seen); to read a "
+              f"box off a frame: hdvr frame {args.video} FRAME --tracks {args.out} --out frame.png; where a dancer "
+              f"is lost, run again with --correct DANCER@FRAME:x,y (a point on it) or :x,y,w,h, where two swapped "
+              f"ids with --swap A,B@FRAME (docs/tracking.md, 'Correcting the tracks')")
     return 0

@@ -55,3 +55,35 @@ def draw_overlay(frame_bgr: np.ndarray, boxes, status, keypoints25=None, ids=Non
         cv2.putText(frame_bgr, label, (x + 4, max(y - 6, int(20 * scale))), cv2.FONT_HERSHEY_SIMPLEX, 0.9 * scale,
                     colour, max(1, int(2 * scale)), cv2.LINE_AA)
     return frame_bgr
+
+
+def draw_pixel_grid(frame_bgr: np.ndarray, step: int = 100) -> np.ndarray:
+    """Draw in place and return ``frame_bgr``: thin lines every ``step`` pixels (fainter ones half-way between),
+    each labelled with its pixel coordinate along the bottom and left edges, so that a box or point can be read off
+    the picture for ``hdvr track --correct``."""
+    if step < 10:
+        raise ValueError(f"grid step must be >= 10 px, got {step}")
+    h, w = frame_bgr.shape[:2]
+    scale = max(h / 720.0, 0.5)
+    thin = frame_bgr.copy()
+    for x in range(step // 2, w, step // 2):
+        cv2.line(thin, (x, 0), (x, h - 1), (255, 255, 255), 1)
+    for y in range(step // 2, h, step // 2):
+        cv2.line(thin, (0, y), (w - 1, y), (255, 255, 255), 1)
+    cv2.addWeighted(thin, 0.25, frame_bgr, 0.75, 0, dst=frame_bgr)
+    for x in range(step, w, step):
+        cv2.line(frame_bgr, (x, 0), (x, h - 1), (255, 255, 255), 1)
+    for y in range(step, h, step):
+        cv2.line(frame_bgr, (0, y), (w - 1, y), (255, 255, 255), 1)
+
+    size = max(0.4, 0.45 * scale)
+
+    def label(text, org):  # white on a dark outline: legible on any background
+        for colour, width in (((0, 0, 0), max(3, int(3 * scale))), ((255, 255, 255), max(1, int(scale)))):
+            cv2.putText(frame_bgr, text, org, cv2.FONT_HERSHEY_SIMPLEX, size, colour, width, cv2.LINE_AA)
+
+    for x in range(step, w, step):
+        label(str(x), (x + 3, h - int(8 * scale)))
+    for y in range(step, h, step):
+        label(str(y), (3, y - 4))
+    return frame_bgr

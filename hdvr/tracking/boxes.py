@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import os
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -288,3 +289,42 @@ def write_tracks_json(path: str | os.PathLike, tracks: np.ndarray, status, fps: 
     doc = {"format": "hdvr-tracks-1", "box": "x, y, w, h pixels, top-left origin", "fps": fps,
            "image_size": list(size), "num_frames": int(tracks.shape[0]), "dancers": dancers, **(extra or {})}
     write_text_atomic(path, json.dumps(doc, separators=(",", ":")))
+
+
+@dataclass(frozen=True)
+class TracksFile:
+    """What ``tracks.json`` holds (:func:`write_tracks_json`; written by ``hdvr track``)."""
+
+    boxes: np.ndarray  # (T, N, 4) x, y, w, h px, NaN where absent or out
+    status: list  # T tuples of N status names ("tracked", "occluded", "hidden", "out", "absent")
+    fps: float
+    image_size: tuple[int, int]  # (width, height) px
+
+
+def read_tracks_json(path: str | os.PathLike) -> TracksFile:
+    """Read ``tracks.json`` (or the ``tracks.json`` in a folder ``path``), checking its format and shapes."""
+    p = Path(path)
+    if p.is_dir():
+        p = p / "tracks.json"
+    if not p.is_file():
+        raise HDVRError(f"tracks file not found: {p} (the tracks.json that hdvr track writes)")
+    try:
+        doc = json.loads(p.read_text())
+        if doc.get("format") != "hdvr-tracks-1":
+            raise ValueError(f"format {doc.get('format')!r}, expected 'hdvr-tracks-1'")
+        T = int(doc["num_frames"])
+        dancers = doc["dancers"]
+        boxes = np.full((T, len(dancers), 4), np.nan)
+        status = [[None] * len(dancers) for _ in range(T)]
+        for i, d in enumerate(dancers):
+            if len(d["boxes"]) != T or len(d["status"]) != T:
+                raise ValueError(f"dancer {i} has {len(d['boxes'])} boxes and {len(d['status'])} statuses for "
+                                 f"{T} frames")
+            for t, (b, st) in enumerate(zip(d["boxes"], d["status"])):
+                if b is not None:
+                    boxes[t, i] = [float(v) for v in b]
+                status[t][i] = str(st)
+        return TracksFile(boxes, [tuple(row) for row in status], float(doc["fps"]),
+                          (int(doc["image_size"][0]), int(doc["image_size"][1])))
+    except (ValueError, KeyError, TypeError, IndexError) as exc:
+        raise HDVRError(f"cannot read tracks file {p}: {exc}") from None

@@ -5,7 +5,9 @@ Outputs in ``out_dir``:
 - ``dancer_<i>.npz``: the 2D keypoint file of dancer i (BODY_25, :mod:`hdvr.io.keypoints2d` format), the input
   of ``hdvr fit3d``;
 - ``tracks.mot.txt`` (MOT challenge text) and ``tracks.json``: boxes per frame and dancer;
-- ``overlay.mp4``: H.264 video with boxes, ids and skeletons (unless disabled).
+- ``overlay.mp4``: H.264 video with boxes, ids and skeletons (unless disabled);
+- ``timeline.png``: each dancer's status and found keypoints over the frames, with the corrections and swaps
+  (unless disabled; :mod:`hdvr.tracking.timeline`).
 
 Frames are decoded and tracked one at a time; only small per-frame arrays (boxes and keypoints) are kept. Once
 all frames are tracked, the stretches in which a dancer was hidden behind others are filled with hindsight (or held
@@ -38,6 +40,7 @@ from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_js
 from hdvr.tracking.hindsight import apply_hindsight
 from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.state import HIDDEN, body_core
+from hdvr.tracking.timeline import draw_tracks_timeline
 from hdvr.video import VideoReader, VideoWriter
 
 
@@ -57,7 +60,8 @@ class TrackRun:
     outputs: list[Path] = field(default_factory=list)
     seconds: float = 0.0  # wall clock
     cpu_seconds: float = 0.0  # CPU time of this process (all threads) during the run
-    stage_seconds: dict = field(default_factory=dict)  # decode, detect, track, select, overlay
+    stage_seconds: dict = field(default_factory=dict)  # decode, detect, track, select, overlay (the overlay video
+    # and the timeline picture)
     hidden_starts: list = field(default_factory=list)  # (frame, dancer, dancer in front) per dancer whose start box
     # lies mostly behind another dancer's (MultiDancerTracker.hiding_dancer): its colours are not its own; also per
     # correction that puts a dancer straight behind another (it waits behind it from there)
@@ -297,7 +301,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
                 zoom_hidden: bool = True, hindsight: bool = True,
                 corrections: list[BoxCorrection] | None = None,
-                swaps: list[IdentitySwap] | None = None) -> TrackRun:
+                swaps: list[IdentitySwap] | None = None, timeline: bool = True) -> TrackRun:
     """Track the dancers of ``video`` and estimate their 2D poses; write the outputs to ``out_dir``.
 
     ``boxes``: initial (x, y, w, h) px boxes in the first frame, or None to find ``num_dancers`` people with the
@@ -313,7 +317,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     (:func:`hdvr.tracking.hindsight.enclose_keypoints`), lower the top of a box that reaches far above a full pose
     (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
     (:func:`hdvr.tracking.hindsight.smooth_boxes`), all in :func:`hdvr.tracking.hindsight.apply_hindsight`; off, the
-    boxes are those of the online tracker.
+    boxes are those of the online tracker. ``timeline``: also draw ``timeline.png``, each dancer's status, found
+    keypoints, corrections and swaps over the frames (:func:`hdvr.tracking.timeline.draw_tracks_timeline`).
     """
     started = time.perf_counter()
     cpu_started = time.process_time()
@@ -486,6 +491,14 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                              **({} if c.point is None else {"point": [float(v) for v in c.point]})}
                             for c in corrections],
             "swaps": [{"frame": s.frame, "dancers": [s.first, s.second]} for s in swaps]})
+        if timeline and len(run.boxes):
+            tic = time.perf_counter()
+            run.outputs.append(draw_tracks_timeline(
+                out / "timeline.png", run.status, run.keypoints, run.fps,
+                corrections=[(c.frame, c.dancer) for c in corrections if c.frame < len(run.boxes)],
+                swaps=[(s.frame, s.first, s.second) for s in swaps if s.frame < len(run.boxes)],
+                hidden_starts=hidden_starts, title=f"Tracks of {Path(video).name}"))
+            stage["overlay"] += time.perf_counter() - tic  # the pictures: overlay video and timeline
     if overlay and write:  # after the files that matter most
         if isinstance(failure, KeyboardInterrupt):  # stopped by the user: no second pass over the video, and no
             (out / "overlay.mp4").unlink(missing_ok=True)  # overlay of an earlier run beside these tracks

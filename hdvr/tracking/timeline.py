@@ -1,0 +1,148 @@
+"""A picture of a tracking run over time: where each dancer was seen, hidden or out, how much of its pose was found,
+and where the user corrected or swapped it (``timeline.png`` of ``hdvr track``).
+
+It answers what the overlay video answers only by watching it through: in which stretches a dancer's box rests on
+evidence (``tracked``: the tracker saw it) and in which it is a guess (``occluded``: predicted or filled with
+hindsight; ``hidden``: waiting behind another since its start), which is where to look for a lost dancer before
+correcting it (docs/tracking.md, "Correcting the tracks").
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from hdvr.layouts import BODY25_NAMES
+from hdvr.pose2d.draw import dancer_colour
+
+# status -> how its band is drawn: None = the dancer's own colour, a float = the dancer's colour mixed that far
+# towards white, a string = a fixed colour
+STATUS_STYLE = {"tracked": None, "occluded": 0.6, "hidden": "#a0a0a0", "out": "#e8e8e8", "absent": "#ffffff"}
+STATUS_MEANING = {"tracked": "seen", "occluded": "hidden behind others (box predicted or filled)",
+                  "hidden": "waiting hidden behind another since its start", "out": "out of the frame",
+                  "absent": "not started"}
+
+
+def _rgb(colour) -> np.ndarray:
+    import matplotlib.colors as mcolors
+
+    return np.array(mcolors.to_rgb(colour))
+
+
+def dancer_rgb(dancer: int) -> np.ndarray:
+    """The dancer's colour in the overlay video (:func:`hdvr.pose2d.draw.dancer_colour`, BGR) as RGB in [0, 1]."""
+    b, g, r = dancer_colour(dancer)
+    return np.array([r, g, b]) / 255.0
+
+
+def status_image(status, num_dancers: int) -> np.ndarray:
+    """(N, T, 3) RGB in [0, 1]: per dancer (row) and frame (column) the colour of its status (:data:`STATUS_STYLE`).
+    ``status``: T tuples of N status names, as :class:`hdvr.tracking.pipeline.TrackRun` holds them."""
+    T = len(status)
+    image = np.ones((num_dancers, T, 3))
+    for i in range(num_dancers):
+        own = dancer_rgb(i)
+        names = np.array([s[i] for s in status], dtype=object)
+        for name, style in STATUS_STYLE.items():
+            mask = names == name
+            if not mask.any():
+                continue
+            if style is None:
+                colour = own
+            elif isinstance(style, float):
+                colour = own + (1.0 - own) * style
+            else:
+                colour = _rgb(style)
+            image[i, mask] = colour
+    return image
+
+
+def pose_fraction(keypoints: np.ndarray) -> np.ndarray:
+    """(T, N) fraction of the 25 BODY_25 keypoints found (confidence > 0) per frame and dancer; ``keypoints``
+    (T, N, 25, 3) x_px, y_px, confidence."""
+    kp = np.asarray(keypoints, float)
+    found = (np.nan_to_num(kp[..., 2]) > 0) & np.isfinite(kp[..., :2]).all(axis=-1)
+    return found.mean(axis=-1)
+
+
+def draw_tracks_timeline(path: str | os.PathLike, status, keypoints: np.ndarray, fps: float,
+                         corrections=(), swaps=(), hidden_starts=(), title: str = "", dpi: int = 110) -> Path:
+    """Write the timeline of a tracking run to ``path`` (PNG or JPEG, atomically) and return the path.
+
+    Top: one band per dancer, coloured by status per frame (the dancer's colour where seen, paler where its box is
+    a guess, grey while it waits hidden since its start, light grey out of the frame). Marks: a black triangle at
+    each correction (``corrections``: (frame, dancer) pairs), a dashed line joining the two dancers of each swap
+    (``swaps``: (frame, dancer, dancer)), a grey diamond where a dancer starts (or is corrected to) straight behind
+    another (``hidden_starts``: (frame, dancer, dancer in front)). Bottom: the fraction of its BODY_25 keypoints
+    found per frame and dancer. Frames along the bottom axis (0-based, as ``--correct`` counts), seconds along the
+    top (``fps``)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from hdvr.io.atomic import atomic_path
+
+    kp = np.asarray(keypoints, float)
+    T, N = kp.shape[:2]
+    if len(status) != T or kp.shape[2:] != (len(BODY25_NAMES), 3):
+        raise ValueError(f"timeline: {len(status)} status rows for keypoints of shape {kp.shape} "
+                         f"(expected T rows and (T, N, 25, 3))")
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(12, 2.6 + 0.4 * N + 1.6), sharex=True,
+                                      gridspec_kw={"height_ratios": [0.4 * N + 0.3, 1.6]})
+    top.imshow(status_image(status, N), aspect="auto", interpolation="nearest",
+               extent=(-0.5, T - 0.5, N - 0.5, -0.5))
+    for i in range(1, N):
+        top.axhline(i - 0.5, color="white", linewidth=2)
+    top.set_yticks(range(N))
+    top.set_yticklabels([f"dancer {i}" for i in range(N)])
+    top.set_ylim(N - 0.5, -0.5)
+    for frame, dancer in corrections:
+        top.plot(frame, dancer - 0.3, marker="v", color="black", markersize=7, clip_on=False)
+    for frame, first, second in swaps:
+        top.plot([frame, frame], [first, second], color="black", linestyle="--", linewidth=1.2, marker="o",
+                 markersize=3)
+    for frame, dancer, _front in hidden_starts:
+        top.plot(frame, dancer, marker="D", color="#505050", markeredgecolor="white", markersize=6)
+    seconds = top.secondary_xaxis("top", functions=(lambda f: f / fps, lambda s: s * fps))
+    seconds.set_xlabel("seconds", fontsize=8)
+    top.set_title(title or "Tracks over time", fontsize=10)
+    found = np.rint(pose_fraction(kp) * len(BODY25_NAMES))
+    for i in range(N):  # each dancer's line a little apart, so that equal counts stay visible
+        bottom.plot(np.arange(T), found[:, i] + 0.25 * (i - (N - 1) / 2), color=dancer_rgb(i), linewidth=1.0,
+                    drawstyle="steps-mid")
+    bottom.set_ylim(-0.5, len(BODY25_NAMES) + 0.5)
+    bottom.set_yticks([0, 5, 10, 15, 20, 25])
+    bottom.set_ylabel("keypoints found\n(of 25)", fontsize=8)
+    bottom.set_xlabel("frame (0-based, as --correct counts)", fontsize=8)
+    bottom.set_xlim(-0.5, T - 0.5)
+    bottom.grid(axis="y", color="#dddddd", linewidth=0.6)
+    handles = [Patch(facecolor=_legend_colour(name), edgecolor="#666666", label=f"{name}: {meaning}")
+               for name, meaning in STATUS_MEANING.items() if any(name in row for row in status)]
+    handles.append(Line2D([], [], marker="v", color="black", linestyle="none", label="correction"))
+    if len(swaps):
+        handles.append(Line2D([], [], marker="o", color="black", linestyle="--", markersize=3, label="swap"))
+    if len(hidden_starts):
+        handles.append(Line2D([], [], marker="D", color="#505050", linestyle="none", label="starts behind another"))
+    handles += [Line2D([], [], color=dancer_rgb(i), label=f"dancer {i}") for i in range(N)]
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.06 + 0.02 * ((len(handles) + 3) // 4), 1, 1))
+    suffix = os.path.splitext(str(path))[1] or ".png"
+    with atomic_path(path, suffix=suffix) as tmp:
+        fig.savefig(tmp, dpi=dpi)
+    plt.close(fig)
+    return Path(path)
+
+
+def _legend_colour(name: str):
+    style = STATUS_STYLE[name]
+    if style is None:
+        return dancer_rgb(0)
+    if isinstance(style, float):
+        own = dancer_rgb(0)
+        return own + (1.0 - own) * style
+    return style
