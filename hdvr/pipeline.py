@@ -3,7 +3,8 @@
 Outputs in ``out_dir`` (every file written atomically; a dancer whose stage fails keeps what came before):
 
 - ``overlay.mp4``, ``timeline.png``, ``tracks.mot.txt``, ``tracks.json``, ``dancer_<i>.npz``: tracking and 2D poses
-  (:mod:`hdvr.tracking`)
+  (:mod:`hdvr.tracking`); ``detections.npz``: the detector's people per frame, reused by a run on the same video
+  into the same folder (:mod:`hdvr.pose2d.cache`)
 - ``dancer_<i>.result3d.npz``: the fitted digital dancer (:mod:`hdvr.fitting`, 3D result contract)
 - ``dancer_<i>.bvh``: the fitted motion for Blender (Y up, centimetres)
 - ``dancer_<i>.labels.json`` and ``dancer_<i>.score.png``: body-part movements and their score (:mod:`hdvr.movements`)
@@ -244,7 +245,8 @@ def analyse_video(video: str | os.PathLike, out_dir: str | os.PathLike, num_danc
     genre_model, genre_reason = load_genre_recogniser(recogniser)  # before the slow part: a bad path fails fast
     out = Path(out_dir)
     run = track_video(video, out, detector=detector, boxes=boxes, num_dancers=num_dancers,
-                      detect_every=detect_every, starts=starts, corrections=corrections, swaps=swaps)
+                      detect_every=detect_every, starts=starts, corrections=corrections, swaps=swaps,
+                      detections_cache=out / "detections.npz")
     dancers = []
     for i in progress(range(run.boxes.shape[1]), desc="3D fit and movements", unit="dancer"):
         kp_path = out / f"dancer_{i}.npz"

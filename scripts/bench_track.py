@@ -31,10 +31,13 @@ markdown section (``## Tracking and 2D pose``) to stdout and, with ``--markdown 
    tracker on a perfect detector instead (:class:`hdvr.synth.truth_detector.GroundTruthDetector`: every dancer
    showing enough of its keypoints, its box the visible part of its body; ``truth-amodal``: its whole ground-truth
    box, hidden parts included): what fails with it is the tracker's own doing, the rest the detector's.
+7. ``cache``: the speed clip tracked once with a detections cache (``hdvr track``'s ``detections.npz``) and then
+   ``--repeats`` times again from it, as after a user's correction: frames/s of both, and whether the outputs are
+   the same.
 
 Usage: python3 scripts/bench_track.py [--repeats 3] [--quick] [--seeds 6] [--seed-start 0]
                                       [--synth-seeds 7,11,23] [--synth-thresholds 0.3,0.15]
-                                      [--sections speed,real,memory,detector,identity,troupe,synth]
+                                      [--sections speed,real,memory,detector,identity,troupe,synth,cache]
                                       [--clips-dir DIR] [--tracker-config NAME=VALUE,...]
                                       [--synth-detector yolo|truth|truth-amodal]
                                       [--per-clip-json FILE] [--markdown docs/benchmarks.md]
@@ -184,6 +187,8 @@ def main() -> int:
         lines += identity_section(args, model, tmp, troupe=True)
     if "zoom" in sections:
         lines += zoom_section(model, tmp, repeats=args.repeats)
+    if "cache" in sections:
+        lines += cache_section(args, clip, boxes, model, tmp)
     config = parse_tracker_config(args.tracker_config)
     per_clip: dict = {}
     if "synth" in sections:
@@ -236,6 +241,32 @@ def speed_section(args, clip, truth, boxes, model, tmp, speed) -> list[str]:
         lines.append(f"| {size} px | {every} | {statistics.median(fps):.1f} | {statistics.median(cpu_fps):.1f} | "
                      f"{stage_text} | {scores.mota:.3f} | "
                      f"{scores.idf1:.3f} | {scores.hota:.3f} | {scores.id_switches} |")
+        print(lines[-1], file=sys.stderr)
+    lines.append("")
+    return lines
+
+
+def cache_section(args, clip, boxes, model, tmp) -> list[str]:
+    """A run again over the same video with the detections cache (``hdvr track`` after a correction): frames/s
+    of the first run (detector on every frame it is due, cache written) and of the next runs (people from the
+    cache), and whether their outputs are the same."""
+    lines = [f"### Tracking again with the detections cache: 640x480, 2 dancers, {args.frames} frames, overlay "
+             f"included", "",
+             "| detector input | detector every | first run frames/s | again, from the cache, frames/s (median) | "
+             "speed-up | detect ms/frame first / again | outputs the same |", "|---|---|---|---|---|---|---|"]
+    for size, every in SETTINGS:
+        detector = tracking_detector(model, size)
+        cache = tmp / f"detections-{size}-{every}.npz"
+        cache.unlink(missing_ok=True)
+        runs = [track_video(clip, tmp / f"cache-{size}-{every}-{k}", detector=detector, boxes=boxes,
+                            detect_every=every, detections_cache=cache) for k in range(1 + args.repeats)]
+        n = runs[0].boxes.shape[0]
+        first, again = n / runs[0].seconds, statistics.median(n / r.seconds for r in runs[1:])
+        same = all(np.array_equal(r.boxes, runs[0].boxes, equal_nan=True)
+                   and np.array_equal(r.keypoints, runs[0].keypoints, equal_nan=True) for r in runs[1:])
+        detect = [1000 * r.stage_seconds["detect"] / n for r in (runs[0], runs[-1])]
+        lines.append(f"| {size} px | {every} | {first:.1f} | {again:.1f} | {again / first:.1f} x | "
+                     f"{detect[0]:.1f} / {detect[1]:.1f} | {'yes' if same else 'NO'} |")
         print(lines[-1], file=sys.stderr)
     lines.append("")
     return lines

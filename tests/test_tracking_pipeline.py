@@ -631,3 +631,20 @@ def test_person_at_picks_the_body_the_point_is_on_in_a_stack():
     assert person_at([front, behind], (172.0, 100.0)) == behind.box  # on the head behind
     assert person_at([front, behind], (158.0, 240.0)) == front.box
     assert person_at([front, behind], (20.0, 20.0)) is None
+
+
+def test_track_again_into_the_same_folder_reuses_the_detector_s_people(clip, tmp_path, capsys):
+    """``hdvr track`` keeps the detector's people in OUT/detections.npz; a second run (after a correction, say)
+    takes them from there and writes the same tracks; ``--no-detection-cache`` neither reads nor writes it."""
+    path, truth = clip
+    out = tmp_path / "out"
+    args = ["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--max-frames", "12",
+            "--no-overlay", "--no-timeline"]
+    assert main(args) == 0
+    first = (out / "tracks.json").read_text()
+    assert "detections.npz" in capsys.readouterr().out
+    assert main(args) == 0
+    assert "the detector's people on 4 frames came from" in capsys.readouterr().out
+    assert (out / "tracks.json").read_text() == first
+    assert main([*args[:3], str(tmp_path / "fresh"), *args[4:], "--no-detection-cache"]) == 0
+    assert "came from" not in capsys.readouterr().out and not (tmp_path / "fresh" / "detections.npz").exists()

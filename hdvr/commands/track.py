@@ -46,6 +46,10 @@ def register(subparsers) -> None:
     p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")
     p.add_argument("--no-timeline", action="store_true",
                    help="do not write timeline.png (each dancer's status and found keypoints over the frames)")
+    p.add_argument("--no-detection-cache", action="store_true",
+                   help="run the detector on every frame again even where OUT/detections.npz holds what it found "
+                        "on this video with these detector settings, and do not write that file (by default a "
+                        "run after a correction takes the detector's people from it: same outputs, faster)")
     p.add_argument("--max-frames", type=int, default=None, help="stop after this many frames")
     p.set_defaults(func=run)
 
@@ -105,6 +109,8 @@ def make_detector(args: argparse.Namespace):
 
 
 def run(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
     from hdvr.tracking.pipeline import track_video, tracked_fraction
 
     dancers = dancer_arguments(args)
@@ -112,12 +118,16 @@ def run(args: argparse.Namespace) -> int:
     result = track_video(args.video, args.out, detector=detector, detect_every=args.detect_every,
                          overlay=not args.no_overlay, max_frames=args.max_frames, zoom_hidden=not args.no_zoom,
                          hindsight=not args.no_hindsight, timeline=not args.no_timeline,
+                         detections_cache=None if args.no_detection_cache else Path(args.out) / "detections.npz",
                          **dancers)
     frames = result.boxes.shape[0]
     seen = tracked_fraction(result)
     pose_found = (result.keypoints[..., 2] > 0).any(axis=2).mean(axis=0)
     print(f"tracked {result.boxes.shape[1]} dancers over {frames} frames in {result.seconds:.1f} s "
           f"({frames / max(result.seconds, 1e-9):.1f} frames/s)")
+    if result.detections_reused:
+        print(f"  the detector's people on {result.detections_reused} frames came from {args.out}/detections.npz "
+              f"(written by an earlier run on this video with these detector settings)")
     filled = result.filled.sum(axis=0)
     for i in range(result.boxes.shape[1]):
         note = f" ({filled[i]} hidden frames filled with hindsight)" if filled[i] else ""

@@ -81,6 +81,15 @@ class OnnxPoseDetector:
         self.weak_threshold = score_threshold if weak_threshold is None else weak_threshold
         self.nms_iou = nms_iou
         self.flip_test = bool(flip_test)
+        self.model_path = path
+
+    def cache_key(self) -> dict:
+        """The model file and every setting that changes the people found (:mod:`hdvr.pose2d.cache`)."""
+        stat = self.model_path.stat()
+        return {"model": self.model_path.name, "model_bytes": stat.st_size, "model_mtime_ns": stat.st_mtime_ns,
+                "format": self.model_format, "input_size": self.fixed_size or self.input_size,
+                "score_threshold": self.score_threshold, "weak_threshold": self.weak_threshold,
+                "nms_iou": self.nms_iou, "flip_test": self.flip_test}
 
     @staticmethod
     def _guess_format(outputs) -> str:

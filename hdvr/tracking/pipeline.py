@@ -32,6 +32,7 @@ from hdvr.errors import HDVRError
 from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
 from hdvr.layouts import BODY25_NAMES
 from hdvr.pose2d.base import PersonPose, PoseDetector
+from hdvr.pose2d.cache import CachingDetector, detector_signature, load_detections, save_detections, video_signature
 from hdvr.pose2d.draw import draw_overlay
 from hdvr.pose2d.selection import PoseSelector
 from hdvr.progress import progress
@@ -67,6 +68,8 @@ class TrackRun:
     # correction that puts a dancer straight behind another (it waits behind it from there)
     filled: np.ndarray | None = None  # (T, N) bool: box filled with hindsight
     # (:func:`hdvr.tracking.hindsight.fill_occluded`)
+    detections_reused: int = 0  # frames whose people came from the detections cache (track_video's
+    # ``detections_cache``) instead of the detector
 
 
 @dataclass(frozen=True)
@@ -301,7 +304,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
                 zoom_hidden: bool = True, hindsight: bool = True,
                 corrections: list[BoxCorrection] | None = None,
-                swaps: list[IdentitySwap] | None = None, timeline: bool = True) -> TrackRun:
+                swaps: list[IdentitySwap] | None = None, timeline: bool = True,
+                detections_cache: str | os.PathLike | None = None) -> TrackRun:
     """Track the dancers of ``video`` and estimate their 2D poses; write the outputs to ``out_dir``.
 
     ``boxes``: initial (x, y, w, h) px boxes in the first frame, or None to find ``num_dancers`` people with the
@@ -319,6 +323,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     (:func:`hdvr.tracking.hindsight.smooth_boxes`), all in :func:`hdvr.tracking.hindsight.apply_hindsight`; off, the
     boxes are those of the online tracker. ``timeline``: also draw ``timeline.png``, each dancer's status, found
     keypoints, corrections and swaps over the frames (:func:`hdvr.tracking.timeline.draw_tracks_timeline`).
+    ``detections_cache``: an NPZ file (:mod:`hdvr.pose2d.cache`) from which the detector's people are taken for the
+    frames it holds, if it was written for this video and detector settings, and to which those of this run are
+    written (with ``write``); the outputs are the same as without it.
     """
     started = time.perf_counter()
     cpu_started = time.process_time()
@@ -326,6 +333,12 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         raise HDVRError(f"--detect-every must be >= 1, got {detect_every}")
     reader = VideoReader(video)
     info = reader.info
+    cache_signature = None
+    if detector is not None and detections_cache is not None:
+        detector_key = detector_signature(detector)
+        if detector_key is not None:
+            cache_signature = {"video": video_signature(video, info.size), "detector": detector_key}
+            detector = CachingDetector(detector, info.size, load_detections(detections_cache, cache_signature))
     if starts is not None:
         starts = sorted(starts, key=lambda s: s.frame)  # dancers are numbered in the order they start
         last = info.num_frames - 1 if info.num_frames else None
@@ -491,6 +504,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                              **({} if c.point is None else {"point": [float(v) for v in c.point]})}
                             for c in corrections],
             "swaps": [{"frame": s.frame, "dancers": [s.first, s.second]} for s in swaps]})
+        if cache_signature is not None:
+            run.outputs.append(save_detections(detections_cache, cache_signature, detector.all_found()))
+            run.detections_reused = detector.reused
         if timeline and len(run.boxes):
             tic = time.perf_counter()
             run.outputs.append(draw_tracks_timeline(
