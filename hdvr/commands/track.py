@@ -134,9 +134,13 @@ def run(args: argparse.Namespace) -> int:
         print(f"  dancer {i}: seen in {100 * seen[i]:.0f}% of frames{note}, pose in {100 * pose_found[i]:.0f}%")
     for path in result.outputs:
         print(f"  wrote {path}")
-    if result.boxes.shape[1] > 1 and any(p.name in ("overlay.mp4", "timeline.png") for p in result.outputs):
-        print(f"check overlay.mp4 (frame numbers top left) and timeline.png (where each dancer was seen); to read a "
-              f"box off a frame: hdvr frame {args.video} FRAME --tracks {args.out} --out frame.png; where a dancer "
-              f"is lost, run again with --correct DANCER@FRAME:x,y (a point on it) or :x,y,w,h, where two swapped "
-              f"ids with --swap A,B@FRAME (docs/tracking.md, 'Correcting the tracks')")
+    written = {p.name for p in result.outputs}
+    pictures = [text for name, text in (("overlay.mp4", "overlay.mp4 (frame numbers top left)"),
+                                        ("timeline.png", "timeline.png (where each dancer was seen)"))
+                if name in written]
+    if result.boxes.shape[1] > 1 and pictures:
+        print(f"check {' and '.join(pictures)}; to read a box off a frame: hdvr frame {args.video} FRAME --tracks "
+              f"{args.out} --out frame.png; where a dancer is lost, run again with --correct DANCER@FRAME:x,y (a "
+              f"point on it) or :x,y,w,h, where two swapped ids with --swap A,B@FRAME (docs/tracking.md, "
+              f"'Correcting the tracks')")
     return 0

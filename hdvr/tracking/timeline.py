@@ -123,7 +123,8 @@ def draw_tracks_timeline(path: str | os.PathLike, status, keypoints: np.ndarray,
     bottom.grid(axis="y", color="#dddddd", linewidth=0.6)
     handles = [Patch(facecolor=_legend_colour(name), edgecolor="#666666", label=f"{name}: {meaning}")
                for name, meaning in STATUS_MEANING.items() if any(name in row for row in status)]
-    handles.append(Line2D([], [], marker="v", color="black", linestyle="none", label="correction"))
+    if len(corrections):
+        handles.append(Line2D([], [], marker="v", color="black", linestyle="none", label="correction"))
     if len(swaps):
         handles.append(Line2D([], [], marker="o", color="black", linestyle="--", markersize=3, label="swap"))
     if len(hidden_starts):
