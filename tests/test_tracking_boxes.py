@@ -145,8 +145,11 @@ def test_a_correction_may_give_a_point_instead_of_a_box(tmp_path):
     assert read_corrections(tmp_path / "fix.json") == [(5, 0, (10.0, 20.0))]
     (tmp_path / "both.json").write_text(json.dumps({"corrections": [{"frame": 5, "dancer": 0, "point": [10, 20],
                                                                      "box": [1, 2, 3, 4]}]}))
+    assert read_corrections(tmp_path / "both.json") == [(5, 0, (1.0, 2.0, 3.0, 4.0))]  # as tracks.json lists a
+    # point's correction: with the box found there, which is what the run used
+    (tmp_path / "neither.json").write_text(json.dumps({"corrections": [{"frame": 5, "dancer": 0}]}))
     with pytest.raises(HDVRError, match="expected each correction"):
-        read_corrections(tmp_path / "both.json")
+        read_corrections(tmp_path / "neither.json")
     (tmp_path / "bad.json").write_text(json.dumps({"corrections": [{"frame": 5, "dancer": 0, "point": [10]}]}))
     with pytest.raises(HDVRError, match="expected a point x,y"):
         read_corrections(tmp_path / "bad.json")

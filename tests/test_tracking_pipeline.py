@@ -648,3 +648,30 @@ def test_track_again_into_the_same_folder_reuses_the_detector_s_people(clip, tmp
     assert (out / "tracks.json").read_text() == first
     assert main([*args[:3], str(tmp_path / "fresh"), *args[4:], "--no-detection-cache"]) == 0
     assert "came from" not in capsys.readouterr().out and not (tmp_path / "fresh" / "detections.npz").exists()
+
+
+def test_tracks_json_of_a_run_starts_the_next_with_its_corrections_and_swaps(clip, tmp_path):
+    """``tracks.json`` lists the run's starts, corrections and swaps, so ``--boxes-file OUT/tracks.json`` tracks the
+    same again, and a ``--correct`` on the command line adds to them or replaces theirs for that dancer and
+    frame; a swap given again counts once."""
+    path, truth = clip
+    first = tmp_path / "first"
+    fix = "1@30:" + ",".join(f"{v + 3:g}" for v in truth.boxes[30, 1])
+    assert main(["track", str(path), "--out", str(first), "--boxes", _boxes_arg(truth), "--detector", "none",
+                 "--no-overlay", "--no-timeline", "--correct", fix, "--swap", "0,1@40"]) == 0
+    doc = json.loads((first / "tracks.json").read_text())
+    assert [s["frame"] for s in doc["starts"]] == [0, 0] and len(doc["corrections"]) == 1
+    again = tmp_path / "again"
+    assert main(["track", str(path), "--out", str(again), "--boxes-file", str(first / "tracks.json"),
+                 "--detector", "none", "--no-overlay", "--no-timeline", "--swap", "1,0@40"]) == 0
+    redo = json.loads((again / "tracks.json").read_text())
+    assert redo["dancers"] == doc["dancers"] and redo["swaps"] == doc["swaps"]  # the same run, the swap once
+    other = "1@30:" + ",".join(f"{v:g}" for v in truth.boxes[30, 1])
+    assert main(["track", str(path), "--out", str(tmp_path / "more"), "--boxes", _boxes_arg(truth),
+                 "--corrections", str(first / "tracks.json"), "--correct", other, "--correct",
+                 "0@50:" + ",".join(f"{v:g}" for v in truth.boxes[50, 0]), "--detector", "none", "--no-overlay",
+                 "--no-timeline"]) == 0
+    more = json.loads((tmp_path / "more" / "tracks.json").read_text())
+    assert [(c["frame"], c["dancer"]) for c in more["corrections"]] == [(30, 1), (50, 0)]
+    assert more["corrections"][0]["box"] == [float(v) for v in truth.boxes[30, 1]]  # the command line's
+    assert more["swaps"] == doc["swaps"]

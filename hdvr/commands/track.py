@@ -61,7 +61,9 @@ def add_dancer_arguments(p) -> None:
     init.add_argument("--boxes-file", help="file with the dancers' start boxes: a JSON list or x,y,w,h lines (first "
                                            "frame), MOT text (each id from its first row) or JSON {\"starts\": "
                                            "[{\"frame\": F, \"box\": [x, y, w, h]}, ...]} (0-based frames): a "
-                                           "dancer hidden in the first frame can start where it is seen clearly")
+                                           "dancer hidden in the first frame can start where it is seen clearly; "
+                                           "the tracks.json of an earlier run starts its dancers again, with its "
+                                           "corrections and swaps")
     init.add_argument("--dancers", type=int, help="find this many dancers automatically (the most persistent "
                                                    "people detected in the first frames)")
     p.add_argument("--correct", action="append", default=[], metavar="DANCER@FRAME:x,y,w,h",
@@ -75,7 +77,8 @@ def add_dancer_arguments(p) -> None:
     p.add_argument("--corrections", metavar="FILE",
                    help="JSON file of corrections and swaps: {\"corrections\": [{\"frame\": F, \"dancer\": i, "
                         "\"box\": [x, y, w, h]}, ...], \"swaps\": [{\"frame\": F, \"dancers\": [a, b]}, ...]} "
-                        "(a --boxes-file in JSON may hold them too)")
+                        "(a --boxes-file in JSON may hold them too, as an earlier run's tracks.json does; --correct "
+                        "replaces a file's correction of the same dancer and frame)")
 
 
 def dancer_arguments(args: argparse.Namespace) -> dict:
@@ -85,18 +88,30 @@ def dancer_arguments(args: argparse.Namespace) -> dict:
                                      read_swaps)
     from hdvr.tracking.pipeline import BoxCorrection, DancerStart, IdentitySwap
 
-    corrections = [parse_correction(text) for text in args.correct]
-    swaps = [parse_swap(text) for text in args.swap]
-    if args.boxes_file:
-        corrections += read_corrections(args.boxes_file, required=False)
-        swaps += read_swaps(args.boxes_file)
-    if args.corrections:
-        swaps += read_swaps(args.corrections)
-        corrections += read_corrections(args.corrections, required=not swaps)
+    # later sources replace earlier ones' correction of the same dancer in the same frame: a --boxes-file, then a
+    # --corrections file (either may be the tracks.json of an earlier run), then --correct on the command line;
+    # a swap given twice counts once
+    corrections: dict = {}
+    swaps: list = []
+
+    def add_swaps(more) -> None:
+        for frame, a, b in more:
+            if (frame, a, b) not in swaps and (frame, b, a) not in swaps:
+                swaps.append((frame, a, b))
+
+    for path in (args.boxes_file, args.corrections):
+        if path:
+            file_swaps = read_swaps(path)
+            add_swaps(file_swaps)
+            for f, i, b in read_corrections(path, required=path == args.corrections and not file_swaps):
+                corrections[f, i] = b
+    for f, i, b in (parse_correction(text) for text in args.correct):
+        corrections[f, i] = b
+    add_swaps([parse_swap(text) for text in args.swap])
     return {"boxes": parse_boxes(args.boxes) if args.boxes else None, "num_dancers": args.dancers,
             "starts": [DancerStart(f, b) for f, b in read_start_boxes(args.boxes_file)] if args.boxes_file else None,
             "corrections": [BoxCorrection(f, i, b, None) if len(b) == 4 else BoxCorrection(f, i, None, b)
-                            for f, i, b in corrections],
+                            for (f, i), b in corrections.items()],
             "swaps": [IdentitySwap(f, a, b) for f, a, b in swaps]}
 
 
@@ -140,7 +155,8 @@ def run(args: argparse.Namespace) -> int:
                 if name in written]
     if result.boxes.shape[1] > 1 and pictures:
         print(f"check {' and '.join(pictures)}; to read a box off a frame: hdvr frame {args.video} FRAME --tracks "
-              f"{args.out} --out frame.png; where a dancer is lost, run again with --correct DANCER@FRAME:x,y (a "
-              f"point on it) or :x,y,w,h, where two swapped ids with --swap A,B@FRAME (docs/tracking.md, "
-              f"'Correcting the tracks')")
+              f"{args.out} --out frame.png; where a dancer is lost, run again with --boxes-file "
+              f"{Path(args.out) / 'tracks.json'} (this run's starts, corrections and swaps) and --correct "
+              f"DANCER@FRAME:x,y (a point on it) or :x,y,w,h, where two swapped ids with --swap A,B@FRAME "
+              f"(docs/tracking.md, 'Correcting the tracks')")
     return 0

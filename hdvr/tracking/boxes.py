@@ -121,15 +121,15 @@ def _point(values, what: str) -> tuple[float, float]:
 
 def _correction(item, where: str) -> tuple[int, int, tuple[float, ...]]:
     """One ``{"frame": F, "dancer": i, "box": [x, y, w, h]}`` (or ``"point": [x, y]``) -> (frame, dancer, box or
-    point)."""
-    if not isinstance(item, dict) or not {"frame", "dancer"} <= set(item) or ("box" in item) == ("point" in item):
+    point). With both (as ``tracks.json`` lists a correction given by a point), the box: the person found there."""
+    if not isinstance(item, dict) or not {"frame", "dancer"} <= set(item) or not ("box" in item or "point" in item):
         raise HDVRError(f"{where}: expected each correction as {{\"frame\": F, \"dancer\": i, \"box\": "
                         f"[x, y, w, h]}} or with \"point\": [x, y], got {item!r}")
     frame, dancer = item["frame"], item["dancer"]
     for name, value in (("frame", frame), ("dancer", dancer)):
         if not isinstance(value, int) or isinstance(value, bool) or value < 0:
             raise HDVRError(f"{where}: correction {name} {value!r} is not a whole number >= 0")
-    if "point" in item:
+    if "box" not in item:
         return frame, dancer, _point(item["point"], f"{where}: correction point")
     box = item["box"]
     if not isinstance(box, list):

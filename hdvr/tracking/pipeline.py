@@ -498,6 +498,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     if write:
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
+            "starts": [{"frame": st.frame, "box": [float(v) for v in st.box]} for st in starts],
             "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts],
             "corrections": [{"frame": c.frame, "dancer": c.dancer,
                              "box": None if c.box is None else [float(v) for v in c.box],
