@@ -147,6 +147,9 @@ def test_a_correction_may_give_a_point_instead_of_a_box(tmp_path):
                                                                      "box": [1, 2, 3, 4]}]}))
     assert read_corrections(tmp_path / "both.json") == [(5, 0, (1.0, 2.0, 3.0, 4.0))]  # as tracks.json lists a
     # point's correction: with the box found there, which is what the run used
+    (tmp_path / "unfound.json").write_text(json.dumps({"corrections": [{"frame": 5, "dancer": 0, "point": [10, 20],
+                                                                        "box": None}]}))
+    assert read_corrections(tmp_path / "unfound.json") == [(5, 0, (10.0, 20.0))]  # stopped before it was found
     (tmp_path / "neither.json").write_text(json.dumps({"corrections": [{"frame": 5, "dancer": 0}]}))
     with pytest.raises(HDVRError, match="expected each correction"):
         read_corrections(tmp_path / "neither.json")

@@ -129,7 +129,7 @@ def _correction(item, where: str) -> tuple[int, int, tuple[float, ...]]:
     for name, value in (("frame", frame), ("dancer", dancer)):
         if not isinstance(value, int) or isinstance(value, bool) or value < 0:
             raise HDVRError(f"{where}: correction {name} {value!r} is not a whole number >= 0")
-    if "box" not in item:
+    if item.get("box") is None and "point" in item:  # (a run stopped before it found the person: box null)
         return frame, dancer, _point(item["point"], f"{where}: correction point")
     box = item["box"]
     if not isinstance(box, list):
