@@ -171,18 +171,26 @@ class VideoReader:
         self.close()
 
 
-def read_frame(path: str | os.PathLike, index: int) -> np.ndarray:
+def read_frame(path: str | os.PathLike, index: int, show_progress: bool = False) -> np.ndarray:
     """Frame ``index`` (0-based) of the video at ``path``, BGR uint8 (height, width, 3).
 
     The frames before it are decoded and dropped (seeking in H.264 lands on key frames, not on a given frame, so a
-    decode from the start is the one way to get exactly the frame the outputs of ``hdvr track`` number ``index``).
-    Raises :class:`HDVRError` for a negative index or one past the last decodable frame."""
+    decode from the start is the one way to get exactly the frame the outputs of ``hdvr track`` number ``index``);
+    ``show_progress``: with a progress bar while doing so. Raises :class:`HDVRError` for a negative index or one
+    past the last decodable frame."""
+    from hdvr.progress import progress
+
     if index < 0:
         raise HDVRError(f"frame {index}: frames are counted from 0")
     with VideoReader(path) as reader:
-        for t, frame in enumerate(reader):
-            if t == index:
-                return frame
+        bar = progress(total=index + 1, desc="decode", unit="frame", disable=not show_progress)
+        try:
+            for t, frame in enumerate(reader):
+                bar.update(1)
+                if t == index:
+                    return frame
+        finally:
+            bar.close()
         count = reader.frames_read
     raise HDVRError(f"frame {index} is past the end of {Path(path).name} ({count} frames, 0-{count - 1})")
 

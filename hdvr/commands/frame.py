@@ -40,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     if args.grid and args.grid < 10:
         raise HDVRError(f"--grid {args.grid}: give a spacing of at least 10 px, or 0 for none")
     tracks = read_tracks_json(args.tracks) if args.tracks else None
-    image = read_frame(args.video, args.frame)
+    image = read_frame(args.video, args.frame, show_progress=True)
     if tracks is not None and (image.shape[1], image.shape[0]) != tracks.image_size:
         raise HDVRError(f"{args.tracks} tracks a {tracks.image_size[0]}x{tracks.image_size[1]} video, but "
                         f"{args.video} is {image.shape[1]}x{image.shape[0]}: not the same video")
