@@ -9,6 +9,7 @@ from tqdm.auto import tqdm
 
 def progress(iterable=None, total: int | None = None, desc: str = "", unit: str = "frame", **kwargs):
     """A tqdm progress bar with HDVR's defaults; pass-through when progress is disabled."""
-    disable = os.environ.get("HDVR_NO_PROGRESS", "") == "1" or kwargs.pop("disable", False)
+    asked_off = kwargs.pop("disable", False)
+    disable = os.environ.get("HDVR_NO_PROGRESS", "") == "1" or asked_off
     return tqdm(iterable, total=total, desc=desc, unit=unit, disable=disable, dynamic_ncols=True,
                 leave=False, **kwargs)
