@@ -59,6 +59,8 @@ START_OFFSET = (
 CORRECTION = (
     (1412, 2, "hip_hop", 3, "tracking_correction_s1412_hip_hop.jpg"),
 )
+#: (seed, clip index, genre, dancers, picture name): a clip drawn by hdvr evaluate tracks --plot (two switches)
+EVALUATION = [(1509, 4, "hip_hop", 4, "tracking_evaluation_s1509_hip_hop.png")]
 #: (--only value, cases, the two of :func:`_hindsight_steps_case`'s boxes drawn, their titles, the step shown)
 STEP_PICTURES = (
     ("keypoints", KEYPOINT_REACH, slice(0, 2), ("filled and smoothed", "widened to the keypoints too"), "widening"),
@@ -209,18 +211,21 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
-                                           "correction", "timeline"),
+                                           "correction", "timeline", "evaluation"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
                              "the ones of a hidden dancer moved towards her start offset, the one of a correction, or "
-                             "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip")
+                             "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
+                             "picture of hdvr evaluate tracks --plot")
     args = parser.parse_args(argv)
 
     from dataclasses import replace
 
+    from hdvr.commands.evaluate import plot_tracks, score_tracks
     from hdvr.pipeline import make_detector
     from hdvr.tracking.multi import MultiTrackerConfig
+    from hdvr.tracking.pipeline import track_video
 
     detector = make_detector("yolo11n", 480, threads=2)  # as hdvr track has it, weak finds included
     with tempfile.TemporaryDirectory() as tmp:
@@ -258,6 +263,12 @@ def main(argv=None) -> int:
             frame_index, (t, dancer) = _write_correction(args.out / name, tmp, detector, seed, index, genre, n)
             print(f"wrote {args.out / name}: seed {seed} {genre}, frame {frame_index}, without and with a correction "
                   f"of dancer {dancer} at frame {t}", file=sys.stderr)
+        for seed, index, genre, n, name in EVALUATION if args.only in (None, "evaluation") else ():
+            gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
+            track_video(video, tmp / "evaluated", detector=detector, starts=starts, detect_every=3, overlay=False)
+            scores = score_tracks(video.parent, tmp / "evaluated")
+            print(f"wrote {plot_tracks(video.parent, tmp / 'evaluated', args.out / name, 0.5, scores)}: seed {seed} "
+                  f"{genre}, IDF1 {scores['IDF1']:.3f}", file=sys.stderr)
         for seed, index, genre, n, name in CORRECTION if args.only in (None, "timeline") else ():
             for path in _write_timeline_and_frame(args.out, tmp, detector, seed, index, genre, n):
                 print(f"wrote {path}: seed {seed} {genre}", file=sys.stderr)

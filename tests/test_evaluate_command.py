@@ -42,6 +42,13 @@ def test_tracks_with_a_swap_and_a_gap_score_as_trackeval_does(tmp_path, capsys):
                  str(tmp_path / "s.json")]) == 0
     assert "identity switches 2" in capsys.readouterr().out
     assert json.loads((tmp_path / "s.json").read_text())["IDSW"] == 2
+    assert main(["evaluate", "tracks", "--gt", str(tmp_path / "gt.txt"), "--tracks", str(out), "--plot",
+                 str(tmp_path / "cover.png")]) == 0
+    assert f"wrote {tmp_path / 'cover.png'}" in capsys.readouterr().out and (tmp_path / "cover.png").stat().st_size
+    assert main(["evaluate", "tracks", "--gt", str(tmp_path / "gt.txt"), "--tracks", str(out), "--plot",
+                 str(tmp_path / "cover.gif")]) == 2
+    err = capsys.readouterr().err
+    assert "give a .png or .jpg" in err and len(err.strip().splitlines()) == 1
 
 
 def test_ground_truth_from_an_hdvr_synth_gt_npz_or_its_folder(tmp_path):

@@ -3,8 +3,8 @@ import pytest
 
 from hdvr.errors import HDVRError
 from hdvr.layouts import BODY25_NAMES, COCO17_NAMES
-from hdvr.tracking.evaluation import (body25_joints_of, evaluate_tracking, pck, torso_diameter,
-                                     visible_truth_keypoints)
+from hdvr.tracking.evaluation import (ABSENT, MISSED, body25_joints_of, evaluate_tracking, pck, torso_diameter,
+                                      track_on_truth, visible_truth_keypoints)
 
 
 def _gt(frames=20):
@@ -120,3 +120,17 @@ def test_miss_causes_name_where_each_dancer_frame_goes_unmatched():
     assert set(c for _, c in counts) == set(MISS_CAUSES)
     with pytest.raises(HDVRError, match="seen fractions"):
         miss_causes(gt, tracked, seen[:, :1])
+
+
+def test_track_on_truth_names_the_track_on_each_true_dancer_per_frame():
+    gt = np.array([[[0, 0, 10, 20], [50, 0, 10, 20]]] * 6, float)
+    tracks = gt.copy()
+    tracks[3:] = tracks[3:, ::-1]  # ids exchanged from frame 3
+    tracks[1, 0] = [4, 0, 10, 20]  # IoU 6/14 with dancer 0: no match at 0.5
+    gt[5, 1] = np.nan  # dancer 1 leaves
+    owner, best = track_on_truth(gt, tracks)
+    np.testing.assert_array_equal(owner[:, 0], [0, MISSED, 0, 1, 1, 1])
+    np.testing.assert_array_equal(owner[:, 1], [1, 1, 1, 0, 0, ABSENT])
+    assert best[1, 0] == pytest.approx(6 / 14) and np.isnan(best[5, 1]) and best[0, 0] == 1
+    with pytest.raises(HDVRError, match="same frames"):
+        track_on_truth(gt, tracks[:4])

@@ -4,7 +4,9 @@ import cv2
 import numpy as np
 import pytest
 
-from hdvr.tracking.timeline import STATUS_STYLE, dancer_rgb, draw_tracks_timeline, pose_fraction, status_image
+from hdvr.tracking.evaluation import track_on_truth
+from hdvr.tracking.timeline import (STATUS_STYLE, dancer_rgb, draw_tracks_timeline, draw_truth_timeline, pose_fraction,
+                                   status_image)
 
 
 def _run(T=90):
@@ -51,3 +53,18 @@ def test_the_timeline_is_written_as_a_picture_with_every_dancer_s_colour(tmp_pat
         assert close.sum() > 2000, f"dancer {i}'s band is missing"
     with pytest.raises(ValueError, match="status rows"):
         draw_tracks_timeline(tmp_path / "bad.png", status[:-1], kp, fps=30.0)
+
+
+def test_the_truth_timeline_colours_each_true_dancer_by_the_track_on_it(tmp_path):
+    gt = np.array([[[0, 0, 10, 20], [50, 0, 10, 20]]] * 60, float)
+    tracks = gt.copy()
+    tracks[30:] = tracks[30:, ::-1]  # a switch half-way
+    tracks[10:20, 0] = np.nan  # dancer 0 missed for 10 frames
+    owner, best = track_on_truth(gt, tracks)
+    path = draw_truth_timeline(tmp_path / "cover.png", owner, best, fps=30.0, title="test")
+    image = cv2.imread(str(path))[..., ::-1] / 255.0
+    for track in (0, 1):
+        assert (np.abs(image - dancer_rgb(track)).max(axis=2) < 0.02).sum() > 2000
+    assert (np.abs(image - 0xA0 / 255).max(axis=2) < 0.01).sum() > 500  # the miss, grey
+    with pytest.raises(ValueError, match="same"):
+        draw_truth_timeline(tmp_path / "bad.png", owner, best[:-1])

@@ -147,6 +147,8 @@ def register(subparsers) -> None:
     t.add_argument("--iou", type=float, default=0.5, help="IoU at which a box matches, for MOTA and IDF1 "
                                                           "(HOTA averages over 0.05-0.95)")
     t.add_argument("--json", help="also write the scores to this JSON file")
+    t.add_argument("--plot", help="also draw which track lies on each true dancer, frame by frame (PNG or JPEG): "
+                                  "identity switches and misses show as changes of colour")
     t.set_defaults(func=_tracks)
     k = sub.add_parser("keypoints", help="PCK of a dancer's 2D keypoints",
                        description="PCK@alpha of a 2D keypoint NPZ (hdvr track's dancer_<i>.npz) against a "
@@ -177,13 +179,46 @@ def _write_json(path, doc: dict) -> None:
 
 
 def _tracks(args) -> int:
+    if args.plot and Path(args.plot).suffix.lower() not in (".png", ".jpg", ".jpeg"):
+        raise HDVRError(f"--plot {args.plot}: give a .png or .jpg file name")
     s = score_tracks(args.gt, args.tracks, args.iou)
     print(f"MOTA {s['MOTA']:.3f}  IDF1 {s['IDF1']:.3f}  HOTA {s['HOTA']:.3f}  identity switches {s['IDSW']}  "
           f"recall {s['recall']:.3f}  precision {s['precision']:.3f}  ({s['frames']} frames, {s['gt_ids']} "
           f"ground-truth ids, {s['tracked_ids']} tracked; IoU {args.iou:g})")
     if args.json:
         _write_json(args.json, s)
+    if args.plot:
+        print(f"wrote {plot_tracks(args.gt, args.tracks, args.plot, args.iou, s)}")
     return 0
+
+
+def plot_tracks(gt_path, tracks_path, path, iou_threshold: float, scores: dict) -> Path:
+    """Draw :func:`hdvr.tracking.timeline.draw_truth_timeline` for ``tracks_path`` against ``gt_path`` (see
+    :func:`load_boxes`) to ``path``, titled with ``scores`` (:func:`score_tracks`)."""
+    from hdvr.tracking.evaluation import track_on_truth
+    from hdvr.tracking.timeline import draw_truth_timeline
+
+    if Path(path).suffix.lower() not in (".png", ".jpg", ".jpeg"):
+        raise HDVRError(f"--plot {path}: give a .png or .jpg file name")
+    gt = load_boxes(gt_path, ground_truth=True)
+    tracks = load_boxes(tracks_path, ground_truth=False)
+    frames = max(gt.shape[0], tracks.shape[0])
+    owner, best = track_on_truth(_pad_frames(gt, frames), _pad_frames(tracks, frames), iou_threshold)
+    fps = _fps_of(tracks_path)
+    return draw_truth_timeline(path, owner, best, fps=fps, iou_threshold=iou_threshold,
+                               title=f"{Path(tracks_path).name} against {Path(gt_path).name}: IDF1 "
+                                     f"{scores['IDF1']:.3f}, MOTA {scores['MOTA']:.3f}, {scores['IDSW']} identity "
+                                     f"switches")
+
+
+def _fps_of(tracks_path) -> float | None:
+    """The frame rate an ``hdvr track`` output folder's tracks.json gives, else None (MOT text has none)."""
+    from hdvr.tracking.boxes import read_tracks_json
+
+    p = Path(tracks_path)
+    if p.is_dir() and (p / "tracks.json").is_file():
+        return read_tracks_json(p).fps
+    return None
 
 
 def _keypoints(args) -> int:

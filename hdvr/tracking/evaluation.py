@@ -47,6 +47,40 @@ def iou_matrix(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.where(union > 0, inter / np.where(union > 0, union, 1), 0.0)
 
 
+ABSENT = -2  # :func:`track_on_truth`: the ground-truth dancer has no box in this frame
+MISSED = -1  # :func:`track_on_truth`: no tracked box lies on the dancer
+
+
+def track_on_truth(gt_boxes: np.ndarray, tracked_boxes: np.ndarray,
+                   iou_threshold: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
+    """Which tracked id lies on each ground-truth dancer, frame by frame: (T, M) int, the tracked box (second index
+    of ``tracked_boxes`` (T, N, 4)) with the highest IoU with dancer m's box in ``gt_boxes`` (T, M, 4) where that
+    IoU reaches ``iou_threshold``, :data:`MISSED` where none does, :data:`ABSENT` where the dancer has no box; and
+    (T, M) that highest IoU (NaN where absent). Boxes (x, y, w, h) px, NaN rows absent. A change of id along a
+    dancer's row is an identity switch, as the pictures of ``hdvr evaluate tracks --plot`` show it."""
+    gt_boxes = np.asarray(gt_boxes, float)
+    tracked_boxes = np.asarray(tracked_boxes, float)
+    if gt_boxes.ndim != 3 or tracked_boxes.ndim != 3 or gt_boxes.shape[0] != tracked_boxes.shape[0]:
+        raise HDVRError(f"expected (T, M, 4) and (T, N, 4) boxes over the same frames, got {gt_boxes.shape} and "
+                        f"{tracked_boxes.shape}")
+    T, M = gt_boxes.shape[:2]
+    owner = np.full((T, M), ABSENT, int)
+    best = np.full((T, M), np.nan)
+    for t in range(T):
+        present = np.isfinite(gt_boxes[t]).all(axis=1)
+        tracked = np.flatnonzero(np.isfinite(tracked_boxes[t]).all(axis=1))
+        owner[t, present] = MISSED
+        best[t, present] = 0.0
+        if not present.any() or not len(tracked):
+            continue
+        iou = iou_matrix(gt_boxes[t, present], tracked_boxes[t, tracked])
+        rows = np.flatnonzero(present)
+        best[t, rows] = iou.max(axis=1)
+        hit = iou.max(axis=1) >= iou_threshold
+        owner[t, rows[hit]] = tracked[iou.argmax(axis=1)[hit]]
+    return owner, best
+
+
 def evaluate_tracking(gt_boxes: np.ndarray, tracked_boxes: np.ndarray, iou_threshold: float = 0.5) -> TrackingScores:
     """Score ``tracked_boxes`` (T, N, 4) against ``gt_boxes`` (T, M, 4); (x, y, w, h) pixels, NaN rows = absent.
 

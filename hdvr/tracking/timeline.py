@@ -1,10 +1,13 @@
-"""A picture of a tracking run over time: where each dancer was seen, hidden or out, how much of its pose was found,
-and where the user corrected or swapped it (``timeline.png`` of ``hdvr track``).
+"""Pictures of tracks over time.
 
-It answers what the overlay video answers only by watching it through: in which stretches a dancer's box rests on
-evidence (``tracked``: the tracker saw it) and in which it is a guess (``occluded``: predicted or filled with
-hindsight; ``hidden``: waiting behind another since its start), which is where to look for a lost dancer before
-correcting it (docs/tracking.md, "Correcting the tracks").
+- :func:`draw_tracks_timeline` (``timeline.png`` of ``hdvr track``): where each dancer was seen, hidden or out, how
+  much of its pose was found, and where the user corrected or swapped it. It answers what the overlay video answers
+  only by watching it through: in which stretches a dancer's box rests on evidence (``tracked``: the tracker saw
+  it) and in which it is a guess (``occluded``: predicted or filled with hindsight; ``hidden``: waiting behind
+  another since its start), which is where to look for a lost dancer before correcting it (docs/tracking.md,
+  "Correcting the tracks").
+- :func:`draw_truth_timeline` (``hdvr evaluate tracks --plot``): against ground truth, which tracked id lies on each
+  true dancer frame by frame, so that identity switches and misses show as changes of colour.
 """
 
 from __future__ import annotations
@@ -67,6 +70,50 @@ def pose_fraction(keypoints: np.ndarray) -> np.ndarray:
     return found.mean(axis=-1)
 
 
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _banded_figure(image: np.ndarray, labels: list[str], fps: float | None, title: str, lower_height: float = 1.6):
+    """A figure of two axes sharing the frame axis: on top ``image`` (N, T, 3) RGB as one band per row, labelled
+    ``labels``, with seconds along the top when ``fps`` is given; below, an empty axes for a curve per row."""
+    plt = _pyplot()
+    N, T = image.shape[:2]
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(12, 2.6 + 0.4 * N + lower_height), sharex=True,
+                                      gridspec_kw={"height_ratios": [0.4 * N + 0.3, lower_height]})
+    top.imshow(image, aspect="auto", interpolation="nearest", extent=(-0.5, T - 0.5, N - 0.5, -0.5))
+    for i in range(1, N):
+        top.axhline(i - 0.5, color="white", linewidth=2)
+    top.set_yticks(range(N))
+    top.set_yticklabels(labels)
+    top.set_ylim(N - 0.5, -0.5)
+    if fps:
+        seconds = top.secondary_xaxis("top", functions=(lambda f: f / fps, lambda s: s * fps))
+        seconds.set_xlabel("seconds", fontsize=8)
+    top.set_title(title, fontsize=10)
+    bottom.set_xlim(-0.5, T - 0.5)
+    bottom.grid(axis="y", color="#dddddd", linewidth=0.6)
+    return fig, top, bottom
+
+
+def _save(fig, handles: list, path: str | os.PathLike, dpi: int) -> Path:
+    """Put ``handles`` in a legend under the figure and write it to ``path`` atomically."""
+    from hdvr.io.atomic import atomic_path
+
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
+    fig.tight_layout(rect=(0, 0.06 + 0.02 * ((len(handles) + 3) // 4), 1, 1))
+    suffix = os.path.splitext(str(path))[1] or ".png"
+    with atomic_path(path, suffix=suffix) as tmp:
+        fig.savefig(tmp, dpi=dpi)
+    _pyplot().close(fig)
+    return Path(path)
+
+
 def draw_tracks_timeline(path: str | os.PathLike, status, keypoints: np.ndarray, fps: float,
                          corrections=(), swaps=(), hidden_starts=(), title: str = "", dpi: int = 110) -> Path:
     """Write the timeline of a tracking run to ``path`` (PNG or JPEG, atomically) and return the path.
@@ -78,29 +125,16 @@ def draw_tracks_timeline(path: str | os.PathLike, status, keypoints: np.ndarray,
     another (``hidden_starts``: (frame, dancer, dancer in front)). Bottom: the fraction of its BODY_25 keypoints
     found per frame and dancer. Frames along the bottom axis (0-based, as ``--correct`` counts), seconds along the
     top (``fps``)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
-
-    from hdvr.io.atomic import atomic_path
 
     kp = np.asarray(keypoints, float)
     T, N = kp.shape[:2]
     if len(status) != T or kp.shape[2:] != (len(BODY25_NAMES), 3):
         raise ValueError(f"timeline: {len(status)} status rows for keypoints of shape {kp.shape} "
                          f"(expected T rows and (T, N, 25, 3))")
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(12, 2.6 + 0.4 * N + 1.6), sharex=True,
-                                      gridspec_kw={"height_ratios": [0.4 * N + 0.3, 1.6]})
-    top.imshow(status_image(status, N), aspect="auto", interpolation="nearest",
-               extent=(-0.5, T - 0.5, N - 0.5, -0.5))
-    for i in range(1, N):
-        top.axhline(i - 0.5, color="white", linewidth=2)
-    top.set_yticks(range(N))
-    top.set_yticklabels([f"dancer {i}" for i in range(N)])
-    top.set_ylim(N - 0.5, -0.5)
+    fig, top, bottom = _banded_figure(status_image(status, N), [f"dancer {i}" for i in range(N)], fps,
+                                      title or "Tracks over time")
     for frame, dancer in corrections:
         top.plot(frame, dancer - 0.3, marker="v", color="black", markersize=7, clip_on=False)
     for frame, first, second in swaps:
@@ -108,9 +142,6 @@ def draw_tracks_timeline(path: str | os.PathLike, status, keypoints: np.ndarray,
                  markersize=3)
     for frame, dancer, _front in hidden_starts:
         top.plot(frame, dancer, marker="D", color="#505050", markeredgecolor="white", markersize=6)
-    seconds = top.secondary_xaxis("top", functions=(lambda f: f / fps, lambda s: s * fps))
-    seconds.set_xlabel("seconds", fontsize=8)
-    top.set_title(title or "Tracks over time", fontsize=10)
     found = np.rint(pose_fraction(kp) * len(BODY25_NAMES))
     for i in range(N):  # each dancer's line a little apart, so that equal counts stay visible
         bottom.plot(np.arange(T), found[:, i] + 0.25 * (i - (N - 1) / 2), color=dancer_rgb(i), linewidth=1.0,
@@ -119,8 +150,6 @@ def draw_tracks_timeline(path: str | os.PathLike, status, keypoints: np.ndarray,
     bottom.set_yticks([0, 5, 10, 15, 20, 25])
     bottom.set_ylabel("keypoints found\n(of 25)", fontsize=8)
     bottom.set_xlabel("frame (0-based, as --correct counts)", fontsize=8)
-    bottom.set_xlim(-0.5, T - 0.5)
-    bottom.grid(axis="y", color="#dddddd", linewidth=0.6)
     handles = [Patch(facecolor=_legend_colour(name), edgecolor="#666666", label=f"{name}: {meaning}")
                for name, meaning in STATUS_MEANING.items() if any(name in row for row in status)]
     if len(corrections):
@@ -130,13 +159,7 @@ def draw_tracks_timeline(path: str | os.PathLike, status, keypoints: np.ndarray,
     if len(hidden_starts):
         handles.append(Line2D([], [], marker="D", color="#505050", linestyle="none", label="starts behind another"))
     handles += [Line2D([], [], color=dancer_rgb(i), label=f"dancer {i}") for i in range(N)]
-    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=7, frameon=False)
-    fig.tight_layout(rect=(0, 0.06 + 0.02 * ((len(handles) + 3) // 4), 1, 1))
-    suffix = os.path.splitext(str(path))[1] or ".png"
-    with atomic_path(path, suffix=suffix) as tmp:
-        fig.savefig(tmp, dpi=dpi)
-    plt.close(fig)
-    return Path(path)
+    return _save(fig, handles, path, dpi)
 
 
 def _legend_colour(name: str):
@@ -147,3 +170,44 @@ def _legend_colour(name: str):
         own = dancer_rgb(0)
         return own + (1.0 - own) * style
     return style
+
+
+def draw_truth_timeline(path: str | os.PathLike, owner: np.ndarray, best_iou: np.ndarray, fps: float | None = None,
+                        iou_threshold: float = 0.5, title: str = "", dpi: int = 110) -> Path:
+    """Write (PNG or JPEG, atomically) how tracks cover the ground truth, from
+    :func:`hdvr.tracking.evaluation.track_on_truth`'s ``owner`` and ``best_iou`` (T, M): one band per ground-truth
+    dancer, coloured per frame in the overlay colour of the tracked id lying on it (so an identity switch is a change
+    of colour along a band), grey where no tracked box does (a miss), blank where the dancer is absent; below, the
+    best IoU of a tracked box with each dancer, with the threshold dashed. Frames along the bottom axis, seconds
+    along the top when ``fps`` is given."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from hdvr.tracking.evaluation import ABSENT, MISSED
+
+    owner = np.asarray(owner)
+    best_iou = np.asarray(best_iou, float)
+    if owner.ndim != 2 or owner.shape != best_iou.shape:
+        raise ValueError(f"timeline: owner {owner.shape} and IoU {best_iou.shape} must be the same (T, M)")
+    T, M = owner.shape
+    image = np.ones((M, T, 3))
+    image[owner.T == MISSED] = _rgb(STATUS_STYLE["hidden"])
+    tracks = [int(k) for k in np.unique(owner[owner >= 0])]
+    for track in tracks:
+        image[owner.T == track] = dancer_rgb(track)
+    fig, top, bottom = _banded_figure(image, [f"true dancer {i}" for i in range(M)], fps,
+                                      title or "Which track lies on each true dancer")
+    line_colours = [_pyplot().cm.tab10(i % 10) for i in range(M)]
+    for i in range(M):
+        bottom.plot(np.arange(T), best_iou[:, i], color=line_colours[i], linewidth=1.0)
+    bottom.axhline(iou_threshold, color="black", linestyle="--", linewidth=0.8)
+    bottom.set_ylim(-0.02, 1.02)
+    bottom.set_ylabel("best IoU", fontsize=8)
+    bottom.set_xlabel("frame (0-based)", fontsize=8)
+    handles = [Patch(facecolor=dancer_rgb(k), edgecolor="#666666", label=f"track {k} on it") for k in tracks]
+    handles.append(Patch(facecolor=_rgb(STATUS_STYLE["hidden"]), edgecolor="#666666",
+                         label=f"no track (IoU < {iou_threshold:g})"))
+    if (owner == ABSENT).any():
+        handles.append(Patch(facecolor="white", edgecolor="#666666", label="not in the frame"))
+    handles += [Line2D([], [], color=line_colours[i], label=f"true dancer {i}: best IoU") for i in range(M)]
+    return _save(fig, handles, path, dpi)
