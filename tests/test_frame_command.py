@@ -38,7 +38,11 @@ def test_the_frame_is_written_with_a_grid_and_each_tracked_box_as_a_ready_correc
         assert f"dancer {i} (tracked): --correct {i}@12:{x},{y},{w},{h}" in printed
     assert main(["frame", str(video), "12", "--out", str(tmp_path / "plain.jpg"), "--grid", "0"]) == 0
     plain = cv2.imread(str(tmp_path / "plain.jpg"))
-    assert np.abs(plain.astype(float) - original).mean() < 3  # no grid, no boxes: the frame as decoded (JPEG)
+    assert np.abs(plain[60:].astype(float) - original[60:]).mean() < 3  # no grid, no boxes: the frame as decoded
+    assert (plain[:20, :60] < 40).all(axis=2).any()  # (JPEG) but for the frame number, white on black, top left
+    capsys.readouterr()
+    assert main(["frame", str(video), "12", "--out", str(tmp_path / "g.png"), "--tracks", str(out / "tracks.json")]) == 0
+    assert "dancer 1 (tracked): --correct 1@12:" in capsys.readouterr().out  # the file instead of its folder
 
 
 def test_bad_requests_get_one_line_errors(tracked, tmp_path, capsys):
@@ -46,6 +50,7 @@ def test_bad_requests_get_one_line_errors(tracked, tmp_path, capsys):
     other = tmp_path / "small.mp4"
     render_clip(other, frames=3, size=(320, 240), specs=default_crossing_specs(num_figures=1, seed=1))
     cases = {("30", "f.png"): "frame 30 is past the end of clip.mp4 (30 frames, 0-29)",
+             ("40", "f.png", "--tracks", str(out)): "frame 40 was not tracked",
              ("3", "f.gif"): "give a .png or .jpg",
              ("3", "f.png", "--grid", "4"): "at least 10 px",
              ("3", "f.png", "--tracks", str(tmp_path / "none")): "tracks file not found"}

@@ -16,7 +16,8 @@ def register(subparsers) -> None:
     p.add_argument("video", help="the video (as given to hdvr track)")
     p.add_argument("frame", type=int, help="0-based frame number")
     p.add_argument("--out", required=True, help="picture to write (.png or .jpg)")
-    p.add_argument("--tracks", help="output folder of hdvr track (its tracks.json, and dancer_<i>.npz if there)")
+    p.add_argument("--tracks", help="output folder of hdvr track, or its tracks.json (the dancer_<i>.npz beside it "
+                                    "give the skeletons)")
     p.add_argument("--grid", type=int, default=100, help="grid spacing in pixels (default 100; 0: no grid)")
     p.set_defaults(func=run)
 
@@ -40,6 +41,8 @@ def run(args: argparse.Namespace) -> int:
     if args.grid and args.grid < 10:
         raise HDVRError(f"--grid {args.grid}: give a spacing of at least 10 px, or 0 for none")
     tracks = read_tracks_json(args.tracks) if args.tracks else None
+    if tracks is not None and args.frame >= len(tracks.boxes):
+        raise HDVRError(f"frame {args.frame} was not tracked ({args.tracks} covers frames 0-{len(tracks.boxes) - 1})")
     image = read_frame(args.video, args.frame, show_progress=True)
     if tracks is not None and (image.shape[1], image.shape[0]) != tracks.image_size:
         raise HDVRError(f"{args.tracks} tracks a {tracks.image_size[0]}x{tracks.image_size[1]} video, but "
@@ -47,14 +50,14 @@ def run(args: argparse.Namespace) -> int:
     if args.grid:
         draw_pixel_grid(image, args.grid)
     lines = []
-    if tracks is not None:
-        if args.frame >= len(tracks.boxes):
-            raise HDVRError(f"frame {args.frame} was not tracked ({args.tracks} covers frames 0-"
-                            f"{len(tracks.boxes) - 1})")
+    if tracks is None:
+        draw_overlay(image, [], [], frame_index=args.frame)
+    else:
+        folder = Path(args.tracks) if Path(args.tracks).is_dir() else Path(args.tracks).parent
         boxes, status = tracks.boxes[args.frame], tracks.status[args.frame]
         keypoints = []
         for i in range(len(boxes)):
-            path = Path(args.tracks) / f"dancer_{i}.npz"
+            path = folder / f"dancer_{i}.npz"
             kp = load_keypoints2d(path, require_visible=False).keypoints if path.is_file() else None
             keypoints.append(kp[args.frame] if kp is not None and len(kp) > args.frame and kp.shape[1] == 25
                              else None)
