@@ -41,7 +41,8 @@ def test_the_frame_is_written_with_a_grid_and_each_tracked_box_as_a_ready_correc
     assert np.abs(plain[60:].astype(float) - original[60:]).mean() < 3  # no grid, no boxes: the frame as decoded
     assert (plain[:20, :60] < 40).all(axis=2).any()  # (JPEG) but for the frame number, white on black, top left
     capsys.readouterr()
-    assert main(["frame", str(video), "12", "--out", str(tmp_path / "g.png"), "--tracks", str(out / "tracks.json")]) == 0
+    assert main(["frame", str(video), "12", "--out", str(tmp_path / "g.png"), "--tracks",
+                 str(out / "tracks.json")]) == 0
     assert "dancer 1 (tracked): --correct 1@12:" in capsys.readouterr().out  # the file instead of its folder
 
 
