@@ -171,28 +171,42 @@ class VideoReader:
         self.close()
 
 
-def read_frame(path: str | os.PathLike, index: int, show_progress: bool = False) -> np.ndarray:
-    """Frame ``index`` (0-based) of the video at ``path``, BGR uint8 (height, width, 3).
+def read_frames(path: str | os.PathLike, indices, show_progress: bool = False) -> Iterator[tuple[int, np.ndarray]]:
+    """(index, frame) for each 0-based frame in ``indices`` of the video at ``path``, in ascending order, from one
+    pass over the video: BGR uint8 (height, width, 3).
 
-    The frames before it are decoded and dropped (seeking in H.264 lands on key frames, not on a given frame, so a
-    decode from the start is the one way to get exactly the frame the outputs of ``hdvr track`` number ``index``);
+    The frames between are decoded and dropped (seeking in H.264 lands on key frames, not on a given frame, so a
+    decode from the start is the one way to get exactly the frames the outputs of ``hdvr track`` number so);
     ``show_progress``: with a progress bar while doing so. Raises :class:`HDVRError` for a negative index or one
-    past the last decodable frame."""
+    past the last decodable frame (after yielding the frames before it)."""
     from hdvr.progress import progress
 
-    if index < 0:
-        raise HDVRError(f"frame {index}: frames are counted from 0")
+    wanted = sorted(set(int(i) for i in indices))
+    if wanted and wanted[0] < 0:
+        raise HDVRError(f"frame {wanted[0]}: frames are counted from 0")
+    if not wanted:
+        return
     with VideoReader(path) as reader:
-        bar = progress(total=index + 1, desc="decode", unit="frame", disable=not show_progress)
+        bar = progress(total=wanted[-1] + 1, desc="decode", unit="frame", disable=not show_progress)
         try:
             for t, frame in enumerate(reader):
                 bar.update(1)
-                if t == index:
-                    return frame
+                if t == wanted[0]:
+                    yield t, frame
+                    wanted.pop(0)
+                    if not wanted:
+                        return
         finally:
             bar.close()
         count = reader.frames_read
-    raise HDVRError(f"frame {index} is past the end of {Path(path).name} ({count} frames, 0-{count - 1})")
+    raise HDVRError(f"frame {wanted[0]} is past the end of {Path(path).name} ({count} frames, 0-{count - 1})")
+
+
+def read_frame(path: str | os.PathLike, index: int, show_progress: bool = False) -> np.ndarray:
+    """Frame ``index`` (0-based) of the video at ``path``, BGR uint8 (height, width, 3) (:func:`read_frames`)."""
+    for _, frame in read_frames(path, [index], show_progress):
+        return frame
+    raise HDVRError(f"frame {index}: no frame")  # pragma: no cover (read_frames raises first)
 
 
 def probe_video(path: str | os.PathLike) -> VideoInfo:

@@ -46,6 +46,17 @@ def test_the_frame_is_written_with_a_grid_and_each_tracked_box_as_a_ready_correc
     assert "dancer 1 (tracked): --correct 1@12:" in capsys.readouterr().out  # the file instead of its folder
 
 
+def test_several_frames_go_into_a_folder_from_one_pass(tracked, tmp_path, capsys):
+    video, out = tracked
+    capsys.readouterr()
+    assert main(["frame", str(video), "20,3,12", "--out", str(tmp_path / "frames"), "--tracks", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert sorted(p.name for p in (tmp_path / "frames").iterdir()) == [
+        "frame_000003.png", "frame_000012.png", "frame_000020.png"]
+    assert printed.index("frame_000003") < printed.index("frame_000012") < printed.index("frame_000020")
+    assert "--correct 0@20:" in printed
+
+
 def test_bad_requests_get_one_line_errors(tracked, tmp_path, capsys):
     video, out = tracked
     other = tmp_path / "small.mp4"
@@ -53,6 +64,9 @@ def test_bad_requests_get_one_line_errors(tracked, tmp_path, capsys):
     cases = {("30", "f.png"): "frame 30 is past the end of clip.mp4 (30 frames, 0-29)",
              ("40", "f.png", "--tracks", str(out)): "frame 40 was not tracked",
              ("3", "f.gif"): "give a .png or .jpg",
+             ("3,5", "f.png"): "for 2 frames give a folder",
+             ("3;5", "f.png"): "cannot read frame",
+             ("3,40", "dir", "--tracks", str(out)): "frame 40 was not tracked",
              ("3", "f.png", "--grid", "4"): "at least 10 px",
              ("3", "f.png", "--tracks", str(tmp_path / "none")): "tracks file not found"}
     for (frame, name, *extra), message in cases.items():
