@@ -117,5 +117,6 @@ def run(args) -> int:
               "(no 3D ground truth used)")
     if scores["genre"]["available"]:
         print(f"   genre: {scores['genre']['predicted']} recognised, the clip is {meta['genre']}")
-    print(f"see {out / 'analysis'} (overlay.mp4, timeline.png, dancer_*.3d.mp4, *.bvh, *.score.png) and {out / 'demo_scores.json'}")
+    print(f"see {out / 'analysis'} (overlay.mp4, timeline.png, dancer_*.3d.mp4, *.bvh, *.score.png) and "
+          f"{out / 'demo_scores.json'}")
     return 0
