@@ -204,9 +204,8 @@ def read_frames(path: str | os.PathLike, indices, show_progress: bool = False) -
 
 def read_frame(path: str | os.PathLike, index: int, show_progress: bool = False) -> np.ndarray:
     """Frame ``index`` (0-based) of the video at ``path``, BGR uint8 (height, width, 3) (:func:`read_frames`)."""
-    for _, frame in read_frames(path, [index], show_progress):
-        return frame
-    raise HDVRError(f"frame {index}: no frame")  # pragma: no cover (read_frames raises first)
+    _, frame = next(read_frames(path, [index], show_progress))  # raises for a frame it cannot give
+    return frame
 
 
 def probe_video(path: str | os.PathLike) -> VideoInfo:

@@ -275,16 +275,13 @@ def main(argv=None) -> int:
     return 0
 
 
-def _write_timeline_and_frame(out: Path, tmp: Path, detector, seed: int, index: int, genre: str, n: int):
-    """What a user works with to correct clip ``index`` of ``seed``: the frame of the simulated user's first
-    correction as ``hdvr frame`` draws it from the tracks (pixel grid, boxes, ids), and the ``timeline.png`` of the
-    run with that correction (dancers numbered in the order they start, as ``hdvr track`` numbers them)."""
-    import shutil
-
+def _first_correction_runs(tmp: Path, detector, seed: int, index: int, genre: str, n: int):
+    """Clip ``index`` of ``seed`` tracked (outputs in ``tmp/plain``), the simulated user's first corrections
+    (:func:`bench_corrections.next_corrections`: (frame, ground-truth dancer, box)) and the clip tracked again with
+    them (``tmp/fixed``): (ground truth, start order, video, plain run, fixed run, corrections)."""
     from bench_corrections import next_corrections
     from bench_track import _seen_truth
 
-    from hdvr.cli import main as hdvr_main
     from hdvr.tracking.pipeline import BoxCorrection, track_video
 
     gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
@@ -294,12 +291,24 @@ def _write_timeline_and_frame(out: Path, tmp: Path, detector, seed: int, index: 
     if not fixes:
         raise SystemExit(f"seed {seed} {genre}: nothing for the simulated user to correct")
     tracker_id = {j: k for k, j in enumerate(order)}
+    fixed = track_video(video, tmp / "fixed", detector=detector, starts=starts, detect_every=3, overlay=False,
+                        corrections=[BoxCorrection(f, tracker_id[j], b) for f, j, b in fixes])
+    return gt, order, video, plain, fixed, fixes
+
+
+def _write_timeline_and_frame(out: Path, tmp: Path, detector, seed: int, index: int, genre: str, n: int):
+    """What a user works with to correct clip ``index`` of ``seed``: the frame of the simulated user's first
+    correction as ``hdvr frame`` draws it from the tracks (pixel grid, boxes, ids), and the ``timeline.png`` of the
+    run with that correction (dancers numbered in the order they start, as ``hdvr track`` numbers them)."""
+    import shutil
+
+    from hdvr.cli import main as hdvr_main
+
+    _, _, video, _, _, fixes = _first_correction_runs(tmp, detector, seed, index, genre, n)
     t = fixes[0][0]
     frame_path = out / f"tracking_frame_s{seed}_{genre}_{t:03d}.jpg"
     if hdvr_main(["frame", str(video), str(t), "--tracks", str(tmp / "plain"), "--out", str(frame_path)]):
         raise SystemExit("hdvr frame failed")
-    track_video(video, tmp / "fixed", detector=detector, starts=starts, detect_every=3, overlay=False,
-                corrections=[BoxCorrection(f, tracker_id[j], b) for f, j, b in fixes])
     timeline_path = out / f"tracking_timeline_s{seed}_{genre}.png"
     shutil.copyfile(tmp / "fixed" / "timeline.png", timeline_path)
     return frame_path, timeline_path
@@ -309,24 +318,10 @@ def _write_correction(path: Path, tmp: Path, detector, seed: int, index: int, ge
     """JPEG ``path``: clip ``index`` of ``seed`` as tracked and after the simulated user's first correction
     (:func:`bench_corrections.next_corrections`), at the frame after it where the corrected dancer's IoU with its
     ground truth gains most. Returns the frame drawn and (frame, ground-truth dancer) of the correction."""
-    from bench_corrections import next_corrections
-    from bench_track import _seen_truth
-
-    from hdvr.tracking.pipeline import BoxCorrection, track_video
-
-    gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
-    truth = _seen_truth(video.parent)[1]
-    plain = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
-                        write=False).boxes[:, np.argsort(order)]
-    fixes, _ = next_corrections(gt, plain, (truth[..., 2] > 0).mean(axis=2))
-    if not fixes:
-        raise SystemExit(f"seed {seed} {genre}: nothing for the simulated user to correct")
-    tracker_id = {j: k for k, j in enumerate(order)}
-    fixed = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
-                        write=False, corrections=[BoxCorrection(t, tracker_id[j], b) for t, j, b in fixes])
-    fixed = fixed.boxes[:, np.argsort(order)]
     from hdvr.tracking.appearance import box_iou
 
+    gt, order, video, plain, fixed, fixes = _first_correction_runs(tmp, detector, seed, index, genre, n)
+    plain, fixed = plain.boxes[:, np.argsort(order)], fixed.boxes[:, np.argsort(order)]
     t, j = fixes[0][:2]
 
     def iou(boxes, k):

@@ -179,7 +179,9 @@ def _write_json(path, doc: dict) -> None:
 
 
 def _tracks(args) -> int:
-    if args.plot and Path(args.plot).suffix.lower() not in (".png", ".jpg", ".jpeg"):
+    from hdvr.io import PICTURE_SUFFIXES
+
+    if args.plot and Path(args.plot).suffix.lower() not in PICTURE_SUFFIXES:  # before the scoring, not after
         raise HDVRError(f"--plot {args.plot}: give a .png or .jpg file name")
     s = score_tracks(args.gt, args.tracks, args.iou)
     print(f"MOTA {s['MOTA']:.3f}  IDF1 {s['IDF1']:.3f}  HOTA {s['HOTA']:.3f}  identity switches {s['IDSW']}  "
@@ -194,12 +196,10 @@ def _tracks(args) -> int:
 
 def plot_tracks(gt_path, tracks_path, path, iou_threshold: float, scores: dict) -> Path:
     """Draw :func:`hdvr.tracking.timeline.draw_truth_timeline` for ``tracks_path`` against ``gt_path`` (see
-    :func:`load_boxes`) to ``path``, titled with ``scores`` (:func:`score_tracks`)."""
+    :func:`load_boxes`) to ``path`` (PNG or JPEG), titled with ``scores`` (:func:`score_tracks`)."""
     from hdvr.tracking.evaluation import track_on_truth
     from hdvr.tracking.timeline import draw_truth_timeline
 
-    if Path(path).suffix.lower() not in (".png", ".jpg", ".jpeg"):
-        raise HDVRError(f"--plot {path}: give a .png or .jpg file name")
     gt = load_boxes(gt_path, ground_truth=True)
     tracks = load_boxes(tracks_path, ground_truth=False)
     frames = max(gt.shape[0], tracks.shape[0])

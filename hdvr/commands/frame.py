@@ -27,6 +27,7 @@ def register(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from hdvr.errors import HDVRError
+    from hdvr.io import PICTURE_SUFFIXES
     from hdvr.tracking.boxes import read_tracks_json
     from hdvr.video import read_frames
 
@@ -38,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     if not frames:
         raise HDVRError("give a frame number")
     out = Path(args.out)
-    image_suffix = out.suffix.lower() in (".png", ".jpg", ".jpeg")
+    image_suffix = out.suffix.lower() in PICTURE_SUFFIXES
     if len(frames) > 1 and image_suffix:
         raise HDVRError(f"--out {out}: for {len(frames)} frames give a folder (it gets frame_<FRAME>.png each)")
     if len(frames) == 1 and out.suffix and not image_suffix:

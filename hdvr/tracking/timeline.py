@@ -40,25 +40,26 @@ def dancer_rgb(dancer: int) -> np.ndarray:
     return np.array([r, g, b]) / 255.0
 
 
+def status_colour(name: str, dancer: int) -> np.ndarray:
+    """RGB in [0, 1] of status ``name`` for ``dancer`` (:data:`STATUS_STYLE`)."""
+    style, own = STATUS_STYLE[name], dancer_rgb(dancer)
+    if style is None:
+        return own
+    if isinstance(style, float):
+        return own + (1.0 - own) * style
+    return _rgb(style)
+
+
 def status_image(status, num_dancers: int) -> np.ndarray:
-    """(N, T, 3) RGB in [0, 1]: per dancer (row) and frame (column) the colour of its status (:data:`STATUS_STYLE`).
+    """(N, T, 3) RGB in [0, 1]: per dancer (row) and frame (column) the colour of its status (:func:`status_colour`).
     ``status``: T tuples of N status names, as :class:`hdvr.tracking.pipeline.TrackRun` holds them."""
-    T = len(status)
-    image = np.ones((num_dancers, T, 3))
+    image = np.ones((num_dancers, len(status), 3))
     for i in range(num_dancers):
-        own = dancer_rgb(i)
         names = np.array([s[i] for s in status], dtype=object)
-        for name, style in STATUS_STYLE.items():
+        for name in STATUS_STYLE:
             mask = names == name
-            if not mask.any():
-                continue
-            if style is None:
-                colour = own
-            elif isinstance(style, float):
-                colour = own + (1.0 - own) * style
-            else:
-                colour = _rgb(style)
-            image[i, mask] = colour
+            if mask.any():
+                image[i, mask] = status_colour(name, i)
     return image
 
 
@@ -150,7 +151,7 @@ def draw_tracks_timeline(path: str | os.PathLike, status, keypoints: np.ndarray,
     bottom.set_yticks([0, 5, 10, 15, 20, 25])
     bottom.set_ylabel("keypoints found\n(of 25)", fontsize=8)
     bottom.set_xlabel("frame (0-based, as --correct counts)", fontsize=8)
-    handles = [Patch(facecolor=_legend_colour(name), edgecolor="#666666", label=f"{name}: {meaning}")
+    handles = [Patch(facecolor=status_colour(name, 0), edgecolor="#666666", label=f"{name}: {meaning}")
                for name, meaning in STATUS_MEANING.items() if any(name in row for row in status)]
     if len(corrections):
         handles.append(Line2D([], [], marker="v", color="black", linestyle="none", label="correction"))
@@ -160,16 +161,6 @@ def draw_tracks_timeline(path: str | os.PathLike, status, keypoints: np.ndarray,
         handles.append(Line2D([], [], marker="D", color="#505050", linestyle="none", label="starts behind another"))
     handles += [Line2D([], [], color=dancer_rgb(i), label=f"dancer {i}") for i in range(N)]
     return _save(fig, handles, path, dpi)
-
-
-def _legend_colour(name: str):
-    style = STATUS_STYLE[name]
-    if style is None:
-        return dancer_rgb(0)
-    if isinstance(style, float):
-        own = dancer_rgb(0)
-        return own + (1.0 - own) * style
-    return style
 
 
 def draw_truth_timeline(path: str | os.PathLike, owner: np.ndarray, best_iou: np.ndarray, fps: float | None = None,
