@@ -12,6 +12,12 @@ same dancers"), the Indian takes a second test ("unseen style").
 
     python3 scripts/bench_lifter.py --workers 2 [--cameras 4] [--epochs 60] [--small]
 
+On a GPU (the published size, receptive field 243 and 1024 channels), with the fits made beforehand on a CPU
+machine (``--fits-cache``) and carried over with the converted mocap (``--write-gt-npz``):
+
+    python3 scripts/bench_lifter.py --gt-npz gt.npz --fits-cache fits.npz --cameras 8 --batch-size 256 \
+        --out-frames 32 --window-stride 4 --lr 2e-4 --train-budget-seconds 190
+
 ``--gt-npz`` reads pre-converted mocap (``--write-gt-npz`` writes it) for machines without ../shared.
 ``--fits-cache FILE`` keeps the fitted views of step 1 (the slow part) for further lifter runs with the same
 options.
@@ -20,6 +26,7 @@ options.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import platform
@@ -119,6 +126,30 @@ def read_fits(path: str, key: str) -> list[dict] | None:
         return [{"name": n, **{f: data[f"{i}/{f}"] for f in FIT_FIELDS}} for i, n in enumerate(names)]
 
 
+def train(clips, model_cfg, cfg, args):
+    """Train the lifter (the epochs chosen from a timed first epoch with ``--train-budget-seconds``); returns the
+    model, its history and the training seconds."""
+    from hdvr.lifter.train import train_lifter
+
+    if args.train_budget_seconds:
+        timing = dataclasses.replace(cfg, epochs=1, max_seconds=None)
+        epoch_seconds = train_lifter(clips, model_cfg, timing)[1][0]["seconds"]
+        cfg.epochs = max(1, int(args.train_budget_seconds / epoch_seconds))
+        cfg.lr_decay = args.final_lr_fraction ** (1.0 / cfg.epochs)
+        args.epochs = cfg.epochs
+        print(f"one epoch took {epoch_seconds:.1f} s: {cfg.epochs} epochs, learning rate x {cfg.lr_decay:.4f} "
+              "per epoch", flush=True)
+
+    def report_epoch(h: dict) -> None:
+        if h["epoch"] % 5 == 0 or h["epoch"] == cfg.epochs - 1:
+            print(f"epoch {h['epoch']}: " + ", ".join(f"{k} {v:.4g}" for k, v in h.items() if k != "epoch"),
+                  flush=True)
+
+    t0 = time.perf_counter()
+    model, history = train_lifter(clips, model_cfg, cfg, on_epoch=report_epoch)
+    return model, history, time.perf_counter() - t0
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cameras", type=int, default=4, help="virtual cameras per training clip (test: 2)")
@@ -127,10 +158,36 @@ def main() -> int:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--max-frames", type=int, default=0, help="truncate clips (0: whole takes)")
     parser.add_argument("--small", action="store_true", help="receptive field 27, 256 channels (quick runs)")
+    parser.add_argument("--filter-widths", default=None,
+                        help="comma-separated filter widths, e.g. 3,3,3,3 (receptive field 81; default 3,3,3,3,3, "
+                        "or 3,3,3 with --small)")
+    parser.add_argument("--channels", type=int, default=None, help="channels of the lifter (default 1024; 256 "
+                        "with --small)")
+    parser.add_argument("--batch-size", type=int, default=None, help="windows per step (default: 256 on a GPU, "
+                        "64 on the CPU)")
+    parser.add_argument("--lr", type=float, default=1e-3)
+    parser.add_argument("--root", choices=("learned", "solved"), default="solved",
+                        help="the root's position: a second network, or solved from the pose and the 2D")
+    parser.add_argument("--lr-decay", type=float, default=0.95, help="learning-rate factor per epoch")
+    parser.add_argument("--max-train-seconds", type=float, default=None,
+                        help="stop training after the epoch that passes this time (the epochs done are kept)")
+    parser.add_argument("--train-budget-seconds", type=float, default=None,
+                        help="choose the epochs from a timed first epoch to fill this much training time, and the "
+                        "per-epoch decay so the learning rate ends at --final-lr-fraction of --lr (both recorded)")
+    parser.add_argument("--final-lr-fraction", type=float, default=0.05)
+    parser.add_argument("--out-frames", type=int, default=16, help="output frames per training window")
+    parser.add_argument("--window-stride", type=int, default=2, help="frames between training windows' starts")
+    parser.add_argument("--device", default="auto", help="auto, cpu or cuda")
+    parser.add_argument("--mixed-precision", action="store_true", help="bf16 autocast on a GPU (default: float32, "
+                        "which was faster on an H100)")
     parser.add_argument("--gt-npz", default=None)
     parser.add_argument("--write-gt-npz", default=None, help="write the converted mocap and exit")
     parser.add_argument("--out", default=str(REPO / "docs" / "lifter_bench.json"))
     parser.add_argument("--model-out", default=None, help="save the trained lifter here")
+    parser.add_argument("--model-in", default=None, help="evaluate this saved lifter instead of training one")
+    parser.add_argument("--flip-test", action="store_true", help="also score the lifter with test-time flipping")
+    parser.add_argument("--raw-inputs", action="store_true",
+                        help="feed the pose network the normalised 2D as given (default: centred and scaled)")
     parser.add_argument("--fits-cache", default=None,
                         help="NPZ of the fitted views: read if it exists (same options), else written after step 1")
     args = parser.parse_args()
@@ -145,7 +202,8 @@ def main() -> int:
 
     from hdvr.lifter.data import LiftingClip, normalise_keypoints
     from hdvr.lifter.model import LifterConfig
-    from hdvr.lifter.train import TrainConfig, lift_sequence, save_checkpoint, train_lifter
+    from hdvr.lifter.train import (TrainConfig, lift_sequence, load_checkpoint, pick_device, save_checkpoint,
+                                   train_config_dict)
     from hdvr.metrics import evaluate
 
     jobs = []
@@ -168,34 +226,58 @@ def main() -> int:
         inputs = normalise_keypoints(v["keypoints"], v["fit_focal"], v["fit_pp"])
         return LiftingClip(inputs, v["fit_cam"].astype(np.float32), v["gt_cam"] if labels else None)
 
-    train = [clip_of(v) for v in views if split_of(v["name"]) == "train"]
+    train_clips = [clip_of(v) for v in views if split_of(v["name"]) == "train"]
     model_cfg = (LifterConfig(filter_widths=(3, 3, 3), channels=256) if args.small else LifterConfig())
-    device = "cuda" if torch.cuda.is_available() else "cpu"
-    cfg = TrainConfig(epochs=args.epochs, batch_size=256 if device == "cuda" else 64, device=device)
-    t0 = time.perf_counter()
-    model, history = train_lifter(train, model_cfg, cfg)
-    train_seconds = time.perf_counter() - t0
-    if args.model_out:
-        save_checkpoint(args.model_out, model, {"receptive_field": model.receptive_field, "bench": "salsa"})
+    if args.channels:
+        model_cfg.channels = args.channels
+    if args.filter_widths:
+        model_cfg.filter_widths = tuple(int(w) for w in args.filter_widths.split(","))
+    model_cfg.root = args.root
+    model_cfg.centre_inputs = not args.raw_inputs
+    device = str(pick_device(args.device))
+    cfg = TrainConfig(epochs=args.epochs, batch_size=args.batch_size or (256 if device == "cuda" else 64),
+                      learning_rate=args.lr, lr_decay=args.lr_decay, max_seconds=args.max_train_seconds,
+                      mixed_precision=args.mixed_precision, device=device, out_frames=args.out_frames,
+                      window_stride=args.window_stride)
+    if args.model_in:
+        model, meta = load_checkpoint(args.model_in, device)
+        model_cfg, history, train_seconds = model.cfg, meta.get("history", []), 0.0
+        print(f"evaluating {args.model_in} (not trained here)")
+    else:
+        model, history, train_seconds = train(train_clips, model_cfg, cfg, args)
+        if args.model_out:
+            save_checkpoint(args.model_out, model, {"receptive_field": model.receptive_field, "bench": "salsa",
+                                                    "train": train_config_dict(cfg), "history": history})
     model = model.to(device)
 
     rows = []
+    lift_seconds, lift_frames = 0.0, 0
+    lifters = [("lifter (trained on the fit)", False)] + ([("lifter, flip test", True)] if args.flip_test else [])
     for split in ("train", "test_salsa", "test_indian"):
         sel = [v for v in views if split_of(v["name"]) == split]
         if not sel:
             continue
-        fit_m, lift_m = [], []
-        for v in sel:
-            lifted = lift_sequence(model, clip_of(v).inputs)
-            fit_m.append(evaluate(v["fit_cam"], v["gt_cam"]))
-            lift_m.append(evaluate(lifted, v["gt_cam"]))
-        for method, ms in (("fit (Algorithm 3* + refinement)", fit_m), ("lifter (trained on the fit)", lift_m)):
+        scores: dict[str, list] = {"fit (Algorithm 3* + refinement)": [evaluate(v["fit_cam"], v["gt_cam"])
+                                                                       for v in sel]}
+        for method, flip_test in lifters:
+            scores[method] = []
+            for v in sel:
+                t0 = time.perf_counter()
+                lifted = lift_sequence(model, clip_of(v).inputs, flip_test=flip_test)
+                if not flip_test:
+                    lift_seconds, lift_frames = lift_seconds + time.perf_counter() - t0, lift_frames + len(lifted)
+                scores[method].append(evaluate(lifted, v["gt_cam"]))
+        for method, ms in scores.items():
             rows.append({"split": split, "method": method, "views": len(sel),
                          **{k: float(np.median([m[k] for m in ms])) for k in ms[0]}})
-    report = {"machine": f"{platform.machine()}, {os.cpu_count()} CPUs, device {device}",
+    gpu = f" ({torch.cuda.get_device_name()})" if device == "cuda" else ""
+    report = {"machine": f"{platform.machine()}, {os.cpu_count()} CPUs, device {device}{gpu}",
               "noise_px": args.noise_px, "cameras_per_train_clip": args.cameras, "epochs": args.epochs,
+              "epochs_done": len(history), "model": model_cfg.to_dict(), "train": train_config_dict(cfg),
               "receptive_field": model.receptive_field, "fit_frames": frames, "fit_wall_s": fit_wall,
-              "train_seconds": train_seconds, "final_loss": history[-1], "rows": rows}
+              "train_frames": sum(c.inputs.shape[0] for c in train_clips), "train_seconds": train_seconds,
+              "lift_frames_per_s": lift_frames / max(lift_seconds, 1e-9), "final_loss": history[-1] if history else None,
+              "history": history, "rows": rows}
     Path(args.out).write_text(json.dumps(report, indent=2))
     print(f"{'split':<12} {'method':<34} {'MPJPE':>7} {'P-MPJPE':>8}")
     for r in rows:

@@ -7,13 +7,13 @@ import torch
 from hdvr.camera import orbit_camera, project
 from hdvr.errors import HDVRError
 from hdvr.lifter import losses
-from hdvr.lifter.data import FLIP_INDEX, LiftingClip, WindowDataset, normalise_keypoints
-from hdvr.lifter.model import LifterConfig, TemporalLifter
+from hdvr.lifter.data import FLIP_INDEX, LiftingClip, WindowBatcher, normalise_keypoints
+from hdvr.lifter.model import LifterConfig, TemporalLifter, solve_root_translation
 from hdvr.lifter.train import TrainConfig, lift_sequence, load_checkpoint, save_checkpoint, train_lifter
 from hdvr.layouts import BODY25_NAMES
 from hdvr.skeleton import Skeleton
 
-SMALL = LifterConfig(filter_widths=(3, 3), channels=64, dropout=0.0)
+SMALL = LifterConfig(filter_widths=(3, 3), channels=64, dropout=0.0, root="learned")
 
 
 pytestmark = pytest.mark.usefixtures("one_torch_thread")
@@ -67,18 +67,34 @@ def _toy_clips(seed=0, frames=120):
     return LiftingClip(normalise_keypoints(kp, 1000.0, (640, 360)), p3.astype(np.float32))
 
 
-def test_window_dataset_padding_and_flip():
+def test_window_batcher_padding_and_flip():
     clip = _toy_clips()
-    ds = WindowDataset([clip], receptive_field=27, out_frames=8, flip=False)
-    item = ds[0]
-    assert item["inputs"].shape == (27 + 7, 25, 3) and item["fit3d"].shape == (8, 25, 3)
-    np.testing.assert_allclose(item["inputs"][0], clip.inputs[0])  # padded with the first frame
-    flipped = WindowDataset([clip], receptive_field=27, out_frames=8, flip=True, seed=3)
-    items = [flipped[i] for i in range(len(flipped))]
-    assert any(not torch.allclose(a["fit3d"], ds[i]["fit3d"]) for i, a in enumerate(items))
-    # flipping keeps 2D and 3D consistent: projection of the flipped 3D equals the flipped 2D
-    for a in items:
-        np.testing.assert_allclose(losses.project_normalised(a["fit3d"]), a["keypoints2d"], atol=1e-5)
+    other = _toy_clips(seed=1, frames=50)
+    data = WindowBatcher([clip, other], receptive_field=27, out_frames=8, flip=False, stride=2)
+    assert len(data) == 60 + 25
+    first = data.gather(torch.tensor([0]), torch.tensor([False]))
+    assert first["inputs"].shape == (1, 27 + 7, 25, 3) and first["fit3d"].shape == (1, 8, 25, 3)
+    np.testing.assert_allclose(first["inputs"][0, :14], np.repeat(clip.inputs[:1], 14, 0))  # padded: first frame
+    np.testing.assert_allclose(first["inputs"][0, 13:], clip.inputs[:21])
+    np.testing.assert_allclose(first["fit3d"][0], clip.fit3d[:8])
+    # the second clip's last window is padded with its own last frame, never the first clip's frames
+    last = data.gather(torch.tensor([len(data) - 1]), torch.tensor([False]))
+    np.testing.assert_allclose(last["inputs"][0, 13:], other.inputs[[48, 49] + [49] * 19])
+    np.testing.assert_allclose(last["keypoints2d"][0], other.inputs[[48, 49] + [49] * 6, :, :2])
+    assert not bool(last["has_labels"][0])
+    # a mirrored window: x negated, left and right exchanged, 2D and 3D still consistent
+    mirrored = data.gather(torch.tensor([0]), torch.tensor([True]))
+    np.testing.assert_allclose(mirrored["fit3d"][0, :, FLIP_INDEX, 0], -first["fit3d"][0, :, :, 0])
+    np.testing.assert_allclose(mirrored["inputs"][0, :, FLIP_INDEX, 2], first["inputs"][0, :, :, 2])
+    np.testing.assert_allclose(losses.project_normalised(mirrored["fit3d"]), mirrored["keypoints2d"], atol=1e-5)
+    # an epoch visits every window once; order and flips depend on (seed, epoch) only
+    flipping = WindowBatcher([clip, other], receptive_field=27, out_frames=8, flip=True, seed=3)
+    order, flips = flipping.order(0)
+    assert sorted(order.tolist()) == list(range(len(data))) and 0 < int(flips.sum()) < len(data)
+    assert torch.equal(order, flipping.order(0)[0]) and not torch.equal(order, flipping.order(1)[0])
+    batches = list(flipping.batches(0, batch_size=16))
+    assert len(batches) == len(data) // 16 and all(b["inputs"].shape[0] == 16 for b in batches)
+    assert len(list(flipping.batches(0, batch_size=16, drop_last=False))) == len(data) // 16 + 1
 
 
 def test_training_reduces_error_and_checkpoint_round_trip(tmp_path):
@@ -117,3 +133,74 @@ def test_lift_cli_train_and_apply(tmp_path):
                  "--model", str(tmp_path / "m.pt"), "--out", str(tmp_path / "lifted.npz")]) == 0
     out = load_result3d(tmp_path / "lifted.npz")
     assert out.keypoints3d.shape == (60, 25, 3) and out.meta["keypoints3d_source"] == "lifter"
+    assert main(["lift", "apply", str(tmp_path / "kp.npz"), "--fit", str(tmp_path / "fit.npz"), "--flip-test",
+                 "--model", str(tmp_path / "m.pt"), "--out", str(tmp_path / "flipped.npz")]) == 0
+    flipped = load_result3d(tmp_path / "flipped.npz").keypoints3d
+    assert flipped.shape == (60, 25, 3) and not np.allclose(flipped, out.keypoints3d)
+
+
+def test_solved_root_translation_places_the_pose_on_the_2d():
+    gen = torch.Generator().manual_seed(0)
+    rel = 0.3 * torch.randn(2, 4, 25, 3, generator=gen)
+    rel = rel - rel[:, :, 8:9]
+    truth = torch.tensor([0.4, -0.3, 5.5])
+    kp = losses.project_normalised(rel + truth)
+    weight = torch.ones(2, 4, 25)
+    np.testing.assert_allclose(solve_root_translation(rel, kp, weight), truth.expand(2, 4, 3), atol=1e-3)
+    # joints without confidence do not count, however wrong their 2D
+    weight[..., :10] = 0.0
+    wrong = kp.clone()
+    wrong[..., :10, :] += 0.5
+    np.testing.assert_allclose(solve_root_translation(rel, wrong, weight), truth.expand(2, 4, 3), atol=1e-3)
+    # a frame with no keypoints stands 4 m straight ahead
+    np.testing.assert_allclose(solve_root_translation(rel, kp, torch.zeros(2, 4, 25)), [[[0.0, 0.0, 4.0]] * 4] * 2)
+    # the translation is differentiable in the pose: the loss can shape the pose through it
+    rel.requires_grad_(True)
+    solve_root_translation(rel, kp, torch.ones(2, 4, 25))[..., 2].sum().backward()
+    assert torch.isfinite(rel.grad).all() and rel.grad.abs().sum() > 0
+
+
+def test_lifter_with_solved_root_learns_and_round_trips(tmp_path):
+    solved = LifterConfig(filter_widths=(3, 3), channels=64, dropout=0.0)
+    assert solved.root == "solved"  # the default
+    model = TemporalLifter(solved)
+    assert model.root is None and sum(p.numel() for p in model.parameters()) < sum(
+        p.numel() for p in TemporalLifter(SMALL).parameters())
+    clips = [_toy_clips(s) for s in range(3)]
+    test = _toy_clips(7)
+    before = np.linalg.norm(lift_sequence(model, test.inputs) - test.fit3d, axis=-1).mean()
+    cfg = TrainConfig(epochs=20, batch_size=16, out_frames=4, device="cpu", seed=0, lr_decay=0.98)
+    model, history = train_lifter(clips, solved, cfg)
+    lifted = lift_sequence(model, test.inputs)
+    after = np.linalg.norm(lifted - test.fit3d, axis=-1).mean()
+    assert after < 0.5 * before and after < 0.1, (before, after)
+    # the root is where the lifted pose reprojects best onto the input 2D
+    reprojection = losses.project_normalised(torch.from_numpy(lifted)) - torch.from_numpy(test.inputs[..., :2])
+    assert float(reprojection.abs().mean()) < 0.01
+    save_checkpoint(tmp_path / "solved.pt", model)
+    loaded, _ = load_checkpoint(tmp_path / "solved.pt")
+    assert loaded.cfg.root == "solved"
+    np.testing.assert_allclose(lift_sequence(loaded, test.inputs), lifted, atol=1e-5)
+    with pytest.raises(ValueError):
+        TemporalLifter(LifterConfig(root="guessed"))
+
+
+def test_training_stops_at_its_time_limit_and_reports_each_epoch():
+    seen = []
+    cfg = TrainConfig(epochs=5, batch_size=16, out_frames=4, device="cpu", max_seconds=0.0)
+    _, history = train_lifter([_toy_clips(frames=40)], SMALL, cfg, on_epoch=seen.append)
+    assert len(history) == 1 and seen == history  # the first epoch passes 0 s: training stops after it
+    assert {"reprojection", "fit", "temporal_3d", "temporal_2d", "seconds"} <= set(history[0])
+
+
+def test_flip_test_is_mirror_symmetric():
+    from hdvr.lifter.train import mirror
+
+    model = TemporalLifter(LifterConfig(filter_widths=(3, 3), channels=64))
+    torch.nn.init.normal_(model.pose.head.weight, std=0.05)  # an untrained, asymmetric network
+    clip = _toy_clips(frames=30)
+    plain = lift_sequence(model, clip.inputs)
+    assert not np.allclose(mirror(lift_sequence(model, mirror(clip.inputs))), plain, atol=1e-3)
+    both = lift_sequence(model, clip.inputs, flip_test=True)
+    np.testing.assert_allclose(lift_sequence(model, mirror(clip.inputs), flip_test=True), mirror(both), atol=1e-5)
+    np.testing.assert_allclose(mirror(mirror(clip.inputs)), clip.inputs)

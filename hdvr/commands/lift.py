@@ -1,7 +1,7 @@
 """``hdvr lift``: train the temporal lifter on (2D, fit) pairs and apply it to a clip.
 
     hdvr lift train --pair kp.npz fit.npz [--pair ...] --out lifter.pt [--epochs 40] [--small]
-    hdvr lift apply kp.npz --fit fit.npz --model lifter.pt --out lifted.npz
+    hdvr lift apply kp.npz --fit fit.npz --model lifter.pt --out lifted.npz [--flip-test]
 
 The lifter never sees 3D ground truth: its targets are the unsupervised fits (``hdvr fit3d``). ``apply`` takes
 the camera intrinsics from the fit (or ``--focal``, default: 55 deg field of view) and writes a 3D result whose
@@ -21,6 +21,8 @@ def register(subparsers) -> None:
     tr.add_argument("--epochs", type=int, default=40)
     tr.add_argument("--small", action="store_true", help="receptive field 27 frames, 256 channels (CPU-friendly)")
     tr.add_argument("--seed", type=int, default=0)
+    tr.add_argument("--root", choices=("solved", "learned"), default="solved",
+                    help="the root's position: solved from the pose and the 2D (default), or a second network")
     tr.add_argument("--device", default="auto", help="auto, cpu or cuda")
     tr.set_defaults(func=run_train)
     ap = sub.add_parser("apply", help="lift one dancer's 2D keypoints")
@@ -28,6 +30,8 @@ def register(subparsers) -> None:
     ap.add_argument("--fit", required=True, help="the clip's 3D fit (intrinsics, qpos, bones)")
     ap.add_argument("--model", required=True)
     ap.add_argument("--out", required=True)
+    ap.add_argument("--flip-test", action="store_true",
+                    help="also lift the mirrored clip and average (test-time augmentation; twice the work)")
     ap.set_defaults(func=run_apply)
     parser.set_defaults(func=lambda args: parser.print_help())
 
@@ -52,6 +56,7 @@ def run_train(args) -> int:
 
     clips = [_clip(k, f)[0] for k, f in args.pair]
     model_cfg = LifterConfig(filter_widths=(3, 3, 3), channels=256) if args.small else LifterConfig()
+    model_cfg.root = args.root
     cfg = TrainConfig(epochs=args.epochs, seed=args.seed, device=args.device)
     model, history = train_lifter(clips, model_cfg, cfg)
     save_checkpoint(args.out, model, {"train": train_config_dict(cfg), "final_loss": history[-1],
@@ -70,7 +75,7 @@ def run_apply(args) -> int:
 
     clip, fit = _clip(args.keypoints, args.fit)
     model, _ = load_checkpoint(args.model)
-    lifted = lift_sequence(model, clip.inputs)
+    lifted = lift_sequence(model, clip.inputs, flip_test=args.flip_test)
     fit.keypoints3d = lifted.astype(np.float32)
     fit.meta = {**fit.meta, "keypoints3d_source": "lifter", "lifter": str(args.model)}
     save_result3d(args.out, fit)

@@ -1,4 +1,4 @@
-"""Training windows for the lifter from (2D keypoints, 3D fit) pairs of one dancer's clip.
+"""Training windows for the lifter from (2D keypoints, 3D fit) pairs of one dancer's clip (:class:`WindowBatcher`).
 
 A :class:`LiftingClip` holds, per frame: BODY_25 2D keypoints in normalised camera coordinates with confidence
 (T, 25, 3), the fit's 3D keypoints P* in the camera frame (T, 25, 3) metres, and optionally 3D labels for
@@ -56,50 +56,72 @@ class LiftingClip:
             raise HDVRError(f"labels3d must be (T={t}, 25, 3), got {self.labels3d.shape}")
 
 
-def _padded_window(arr: np.ndarray, start: int, length: int) -> np.ndarray:
-    idx = np.clip(np.arange(start, start + length), 0, arr.shape[0] - 1)
-    return arr[idx]
+class WindowBatcher:
+    """Training windows of ``receptive_field + out_frames - 1`` input frames predicting ``out_frames`` outputs,
+    one starting every ``stride`` frames of every clip, gathered a batch at a time by tensor indexing.
 
-
-class WindowDataset(torch.utils.data.Dataset):
-    """Windows of ``receptive_field + out_frames - 1`` input frames predicting ``out_frames`` outputs, starting
-    every ``stride`` frames.
-
-    Each item: ``inputs`` (T_in, 25, 3), ``keypoints2d`` (L, 25, 2), ``confidence`` (L, 25), ``fit3d`` (L, 25, 3),
-    ``labels3d`` (L, 25, 3) (zeros when absent) and ``has_labels`` (bool). ``flip`` mirrors at random
-    (x -> -x, left <-> right), deterministic per (seed, epoch, index) via the generator passed to sampling.
+    All clips are concatenated once onto ``device``; a batch is one gather, so feeding a GPU costs no Python loop
+    per window (a per-item dataset kept the GPU waiting). Windows are padded at a clip's ends by repeating its
+    first / last frame. Batch keys: ``inputs`` (B, T_in, 25, 3), ``keypoints2d`` (B, L, 25, 2), ``confidence``
+    (B, L), ``fit3d`` (B, L, 25, 3), ``labels3d`` (B, L, 25, 3) (zeros where a clip has none) and ``has_labels``
+    (B,) bool. ``flip`` mirrors half the windows (x -> -x, left <-> right), chosen with the order by
+    (seed, epoch), so a run is the same for a seed on any device.
     """
 
     def __init__(self, clips: list[LiftingClip], receptive_field: int, out_frames: int = 16, flip: bool = True,
-                 seed: int = 0, stride: int = 2):
+                 seed: int = 0, stride: int = 2, device: str | torch.device = "cpu"):
         if not clips:
             raise HDVRError("no training clips")
-        self.clips, self.rf, self.out_frames, self.flip = clips, receptive_field, out_frames, flip
-        self.seed = seed
-        self.epoch = 0
-        # overlapping windows (a new one every ``stride`` frames): many more optimisation steps per epoch
-        self.index = [(c, s) for c, clip in enumerate(clips) for s in range(0, clip.inputs.shape[0], stride)]
+        self.rf, self.out_frames, self.flip, self.seed = receptive_field, out_frames, flip, seed
+        self.device = torch.device(device)
+        lengths = [c.inputs.shape[0] for c in clips]
+        offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+
+        def stacked(arrays) -> torch.Tensor:
+            return torch.from_numpy(np.ascontiguousarray(np.concatenate(arrays), dtype=np.float32)).to(self.device)
+
+        self.inputs = stacked([c.inputs for c in clips])
+        self.fit3d = stacked([c.fit3d for c in clips])
+        self.labels3d = stacked([c.labels3d if c.labels3d is not None else np.zeros_like(c.fit3d) for c in clips])
+        self.frame_has_labels = torch.from_numpy(np.concatenate(
+            [np.full(n, c.labels3d is not None) for n, c in zip(lengths, clips)])).to(self.device)
+        # one row per window: (first output frame's index in the concatenation, clip's first index, clip's last)
+        rows = [(o + s, o, o + n - 1) for o, n in zip(offsets, lengths) for s in range(0, n, stride)]
+        self.windows = torch.tensor(rows, dtype=torch.long, device=self.device)
+        self.flip_index = torch.from_numpy(FLIP_INDEX).to(self.device)
 
     def __len__(self) -> int:
-        return len(self.index)
+        return len(self.windows)
 
-    def __getitem__(self, i: int) -> dict:
-        c, start = self.index[i]
-        clip = self.clips[c]
+    def order(self, epoch: int) -> tuple[torch.Tensor, torch.Tensor]:
+        """The epoch's window order and flip flags (B,), from a CPU generator seeded by (seed, epoch)."""
+        generator = torch.Generator().manual_seed(int(np.random.SeedSequence((self.seed, epoch)).generate_state(1)[0]))
+        order = torch.randperm(len(self), generator=generator)
+        flips = (torch.rand(len(self), generator=generator) < 0.5) & self.flip
+        return order.to(self.device), flips.to(self.device)
+
+    def batches(self, epoch: int, batch_size: int, drop_last: bool = True):
+        """Yield the epoch's batches (see the class docstring); a last partial batch only if not ``drop_last``
+        or if it is the only one."""
+        order, flips = self.order(epoch)
+        n = len(self)
+        stop = n - n % batch_size if drop_last and n > batch_size else n
+        for s in range(0, stop, batch_size):
+            yield self.gather(order[s:s + batch_size], flips[order[s:s + batch_size]])
+
+    def gather(self, windows: torch.Tensor, flips: torch.Tensor) -> dict[str, torch.Tensor]:
+        """The batch of the given window indices (B,), mirrored where ``flips`` (B,) is true."""
+        first, lo, hi = self.windows[windows].T
         pad = (self.rf - 1) // 2
-        inputs = _padded_window(clip.inputs, start - pad, self.rf + self.out_frames - 1).copy()
-        kp = _padded_window(clip.inputs, start, self.out_frames).copy()
-        fit = _padded_window(clip.fit3d, start, self.out_frames).copy()
-        labels = (_padded_window(clip.labels3d, start, self.out_frames).copy() if clip.labels3d is not None
-                  else np.zeros_like(fit))
-        rng = np.random.default_rng((self.seed, self.epoch, i))
-        if self.flip and rng.random() < 0.5:
-            inputs, kp, fit, labels = (a[:, FLIP_INDEX] for a in (inputs, kp, fit, labels))
-            for a in (inputs, kp, fit, labels):
-                a[..., 0] *= -1
-        return {"inputs": torch.from_numpy(np.ascontiguousarray(inputs, dtype=np.float32)),
-                "keypoints2d": torch.from_numpy(np.ascontiguousarray(kp[..., :2], dtype=np.float32)),
-                "confidence": torch.from_numpy(np.ascontiguousarray(kp[..., 2], dtype=np.float32)),
-                "fit3d": torch.from_numpy(np.ascontiguousarray(fit, dtype=np.float32)),
-                "labels3d": torch.from_numpy(np.ascontiguousarray(labels, dtype=np.float32)),
-                "has_labels": torch.tensor(clip.labels3d is not None)}
+        steps_in = torch.arange(self.rf + self.out_frames - 1, device=self.device)
+        idx_in = (first[:, None] - pad + steps_in).clamp(lo[:, None], hi[:, None])
+        idx_out = (first[:, None] + steps_in[:self.out_frames]).clamp(lo[:, None], hi[:, None])
+        inputs, kp = self.inputs[idx_in], self.inputs[idx_out]
+        fit, labels = self.fit3d[idx_out], self.labels3d[idx_out]
+        if bool(flips.any()):
+            sign = torch.tensor([-1.0, 1.0, 1.0], device=self.device)
+            f = flips[:, None, None, None]
+            inputs, kp, fit, labels = (torch.where(f, a[:, :, self.flip_index] * sign, a)
+                                       for a in (inputs, kp, fit, labels))
+        return {"inputs": inputs, "keypoints2d": kp[..., :2].contiguous(), "confidence": kp[..., 2].contiguous(),
+                "fit3d": fit, "labels3d": labels, "has_labels": self.frame_has_labels[first]}

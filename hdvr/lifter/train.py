@@ -1,13 +1,16 @@
 """Training and inference for :class:`hdvr.lifter.model.TemporalLifter`.
 
 Checkpoints are plain ``torch.save`` dicts of tensors and primitives (``state_dict``, ``config``, ``meta``) and
-are loaded with ``torch.load(..., weights_only=True)``. Training is deterministic for a seed on the CPU.
+are loaded with ``torch.load(..., weights_only=True)``. Training is deterministic for a seed on the CPU; on a GPU
+the window order and flips are the same, the arithmetic (TF32 / bf16 kernels) is not bit-exact.
 """
 
 from __future__ import annotations
 
 import os
+import time
 from dataclasses import asdict, dataclass, field
+from typing import Callable
 
 import numpy as np
 import torch
@@ -15,7 +18,7 @@ import torch
 from hdvr.errors import HDVRError
 from hdvr.io.atomic import atomic_path
 from hdvr.lifter import losses
-from hdvr.lifter.data import LiftingClip, WindowDataset
+from hdvr.lifter.data import FLIP_INDEX, LiftingClip, WindowBatcher
 from hdvr.lifter.model import LifterConfig, TemporalLifter
 from hdvr.progress import progress
 
@@ -38,6 +41,10 @@ class TrainConfig:
     flip: bool = True
     seed: int = 0
     device: str = "auto"
+    # bf16 autocast on a CUDA device (ignored on the CPU). Off: on an H100 the full-size lifter trained 1.7x slower
+    # with it than in float32 (TF32 convolutions), on the same loss curve (docs/benchmarks.md, "Lifter", session 43)
+    mixed_precision: bool = False
+    max_seconds: float | None = None  # stop after the epoch that passes this much training time (None: no limit)
     history: list = field(default_factory=list)
 
 
@@ -69,49 +76,70 @@ def loss_terms(pred: torch.Tensor, batch: dict, cfg: TrainConfig) -> dict[str, t
 
 
 def train_lifter(clips: list[LiftingClip], model_cfg: LifterConfig | None = None,
-                 cfg: TrainConfig | None = None) -> tuple[TemporalLifter, list[dict]]:
-    """Train a lifter on ``clips``; returns the model (eval mode, on the CPU) and per-epoch loss history."""
+                 cfg: TrainConfig | None = None,
+                 on_epoch: Callable[[dict], None] | None = None) -> tuple[TemporalLifter, list[dict]]:
+    """Train a lifter on ``clips``; returns the model (eval mode, on the CPU) and the per-epoch history (mean of
+    each weighted loss term, training seconds so far), each entry also passed to ``on_epoch`` as it ends."""
     cfg = cfg or TrainConfig()
     torch.manual_seed(cfg.seed)
     device = pick_device(cfg.device)
     model = TemporalLifter(model_cfg).to(device)
-    data = WindowDataset(clips, model.receptive_field, cfg.out_frames, cfg.flip, cfg.seed, cfg.window_stride)
-    generator = torch.Generator().manual_seed(cfg.seed)
-    loader = torch.utils.data.DataLoader(data, batch_size=cfg.batch_size, shuffle=True, generator=generator,
-                                         drop_last=len(data) > cfg.batch_size)
+    data = WindowBatcher(clips, model.receptive_field, cfg.out_frames, cfg.flip, cfg.seed, cfg.window_stride,
+                         device=device)
     opt = torch.optim.Adam(model.parameters(), lr=cfg.learning_rate, amsgrad=True)
     sched = torch.optim.lr_scheduler.ExponentialLR(opt, cfg.lr_decay)
+    autocast = torch.autocast(device.type, dtype=torch.bfloat16,
+                              enabled=cfg.mixed_precision and device.type == "cuda")
     history = []
+    start = time.perf_counter()
     for epoch in progress(range(cfg.epochs), desc="training lifter", unit="epoch"):
-        data.epoch = epoch
         model.train()
-        sums: dict[str, float] = {}
+        sums: dict[str, torch.Tensor] = {}
         batches = 0
-        for batch in loader:
-            batch = {k: v.to(device) for k, v in batch.items()}
-            pred = model(batch["inputs"])
-            terms = loss_terms(pred, batch, cfg)
+        for batch in data.batches(epoch, cfg.batch_size):
+            with autocast:
+                pred = model(batch["inputs"])
+            terms = loss_terms(pred.float(), batch, cfg)
             loss = sum(terms.values())
             opt.zero_grad(set_to_none=True)
             loss.backward()
             opt.step()
-            for k, v in terms.items():
-                sums[k] = sums.get(k, 0.0) + float(v.detach())
+            for k, v in terms.items():  # summed on the device: no synchronisation per step
+                sums[k] = sums.get(k, 0.0) + v.detach()
             batches += 1
         sched.step()
-        history.append({"epoch": epoch, **{k: v / max(batches, 1) for k, v in sums.items()}})
+        seconds = time.perf_counter() - start
+        history.append({"epoch": epoch, **{k: float(v) / max(batches, 1) for k, v in sums.items()},
+                        "seconds": seconds})
+        if on_epoch is not None:
+            on_epoch(history[-1])
+        if cfg.max_seconds is not None and seconds > cfg.max_seconds:
+            break
     model.eval()
     return model.cpu(), history
 
 
+def mirror(points: np.ndarray) -> np.ndarray:
+    """(..., 25, C) keypoints mirrored through the camera's vertical plane: x -> -x, left and right exchanged
+    (normalised 2D, whose x is measured from the principal point, or camera-frame 3D)."""
+    out = points[..., FLIP_INDEX, :].copy()
+    out[..., 0] *= -1
+    return out
+
+
 @torch.no_grad()
-def lift_sequence(model: TemporalLifter, inputs: np.ndarray, chunk: int = 2048) -> np.ndarray:
+def lift_sequence(model: TemporalLifter, inputs: np.ndarray, chunk: int = 2048,
+                  flip_test: bool = False) -> np.ndarray:
     """Lift a whole clip: ``inputs`` (T, 25, 3) normalised 2D + confidence -> (T, 25, 3) camera metres.
 
-    The clip is padded by repeating its first and last frames so every frame gets a prediction.
+    The clip is padded by repeating its first and last frames so every frame gets a prediction. ``flip_test``
+    also lifts the mirrored clip and averages its prediction, mirrored back, with the clip's (as VideoPose3D's
+    test-time augmentation; twice the work).
     """
     if inputs.ndim != 3 or inputs.shape[1:] != (25, 3) or inputs.shape[0] == 0:
         raise HDVRError(f"lifter input must be (T>0, 25, 3), got {inputs.shape}")
+    if flip_test:
+        return 0.5 * (lift_sequence(model, inputs, chunk) + mirror(lift_sequence(model, mirror(inputs), chunk)))
     model.eval()
     device = next(model.parameters()).device
     rf = model.receptive_field
