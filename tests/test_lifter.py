@@ -128,7 +128,8 @@ def test_lift_cli_train_and_apply(tmp_path):
     q[:, 3] = 1
     save_result3d(tmp_path / "fit.npz", Result3D(clip.fit3d, q, 1000.0, (640, 360), np.ones(9), np.zeros(60)))
     assert main(["lift", "train", "--pair", str(tmp_path / "kp.npz"), str(tmp_path / "fit.npz"),
-                 "--out", str(tmp_path / "m.pt"), "--epochs", "2", "--small", "--device", "cpu"]) == 0
+                 "--out", str(tmp_path / "m.pt"), "--epochs", "2", "--small", "--device", "cpu",
+                 "--batch-size", "32", "--max-minutes", "5"]) == 0
     assert main(["lift", "apply", str(tmp_path / "kp.npz"), "--fit", str(tmp_path / "fit.npz"),
                  "--model", str(tmp_path / "m.pt"), "--out", str(tmp_path / "lifted.npz")]) == 0
     out = load_result3d(tmp_path / "lifted.npz")

@@ -1,10 +1,10 @@
 """``hdvr lift``: train the temporal lifter on (2D, fit) pairs and apply it to a clip.
 
-    hdvr lift train --pair kp.npz fit.npz [--pair ...] --out lifter.pt [--epochs 40] [--small]
+    hdvr lift train --pair kp.npz fit.npz [--pair ...] --out lifter.pt [--epochs 40] [--small] [--max-minutes M]
     hdvr lift apply kp.npz --fit fit.npz --model lifter.pt --out lifted.npz [--flip-test]
 
 The lifter never sees 3D ground truth: its targets are the unsupervised fits (``hdvr fit3d``). ``apply`` takes
-the camera intrinsics from the fit (or ``--focal``, default: 55 deg field of view) and writes a 3D result whose
+the camera intrinsics from the fit and writes a 3D result whose
 ``keypoints3d`` are the lifter's (camera frame, metres); ``qpos``, bones and camera pose stay those of the fit
 (``meta.keypoints3d_source = "lifter"``).
 """
@@ -21,6 +21,10 @@ def register(subparsers) -> None:
     tr.add_argument("--epochs", type=int, default=40)
     tr.add_argument("--small", action="store_true", help="receptive field 27 frames, 256 channels (CPU-friendly)")
     tr.add_argument("--seed", type=int, default=0)
+    tr.add_argument("--batch-size", type=int, default=128, help="training windows per step")
+    tr.add_argument("--learning-rate", type=float, default=1e-3)
+    tr.add_argument("--max-minutes", type=float, default=None,
+                    help="stop after the epoch that passes this much training time, keeping what was learnt")
     tr.add_argument("--root", choices=("solved", "learned"), default="solved",
                     help="the root's position: solved from the pose and the 2D (default), or a second network")
     tr.add_argument("--device", default="auto", help="auto, cpu or cuda")
@@ -57,11 +61,13 @@ def run_train(args) -> int:
     clips = [_clip(k, f)[0] for k, f in args.pair]
     model_cfg = LifterConfig(filter_widths=(3, 3, 3), channels=256) if args.small else LifterConfig()
     model_cfg.root = args.root
-    cfg = TrainConfig(epochs=args.epochs, seed=args.seed, device=args.device)
+    cfg = TrainConfig(epochs=args.epochs, seed=args.seed, device=args.device, batch_size=args.batch_size,
+                      learning_rate=args.learning_rate,
+                      max_seconds=None if args.max_minutes is None else 60.0 * args.max_minutes)
     model, history = train_lifter(clips, model_cfg, cfg)
     save_checkpoint(args.out, model, {"train": train_config_dict(cfg), "final_loss": history[-1],
                                       "clips": [list(p) for p in args.pair]})
-    print(f"wrote {args.out}: receptive field {model.receptive_field} frames, "
+    print(f"wrote {args.out}: receptive field {model.receptive_field} frames, {len(history)} epochs, "
           f"{sum(c.inputs.shape[0] for c in clips)} training frames, final loss "
           + ", ".join(f"{k} {v:.3g}" for k, v in history[-1].items() if k != "epoch"))
     return 0
