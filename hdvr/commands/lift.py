@@ -21,7 +21,7 @@ def register(subparsers) -> None:
     tr.add_argument("--epochs", type=int, default=40)
     tr.add_argument("--small", action="store_true", help="receptive field 27 frames, 256 channels (CPU-friendly)")
     tr.add_argument("--seed", type=int, default=0)
-    tr.add_argument("--batch-size", type=int, default=128, help="training windows per step")
+    tr.add_argument("--batch-size", type=int, default=32, help="training windows per step (default 32)")
     tr.add_argument("--learning-rate", type=float, default=1e-3)
     tr.add_argument("--max-minutes", type=float, default=None,
                     help="stop after the epoch that passes this much training time, keeping what was learnt")

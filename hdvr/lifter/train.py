@@ -28,7 +28,9 @@ class TrainConfig:
     """Optimisation settings and the weights of Algorithm 4*'s loss terms."""
 
     epochs: int = 40
-    batch_size: int = 128
+    # windows per step: the lifter needs many steps more than large ones (docs/benchmarks.md, "Lifter", session 43:
+    # on the CPU a step of 32 windows costs half one of 64, and 45 minutes at 32 ended 1 mm better)
+    batch_size: int = 32
     out_frames: int = 16
     window_stride: int = 2  # frames between training window starts
     learning_rate: float = 1e-3
