@@ -136,7 +136,6 @@ def train(clips, model_cfg, cfg, args):
         epoch_seconds = train_lifter(clips, model_cfg, timing)[1][0]["seconds"]
         cfg.epochs = max(1, int(args.train_budget_seconds / epoch_seconds))
         cfg.lr_decay = args.final_lr_fraction ** (1.0 / cfg.epochs)
-        args.epochs = cfg.epochs
         print(f"one epoch took {epoch_seconds:.1f} s: {cfg.epochs} epochs, learning rate x {cfg.lr_decay:.4f} "
               "per epoch", flush=True)
 
@@ -272,7 +271,7 @@ def main() -> int:
                          **{k: float(np.median([m[k] for m in ms])) for k in ms[0]}})
     gpu = f" ({torch.cuda.get_device_name()})" if device == "cuda" else ""
     report = {"machine": f"{platform.machine()}, {os.cpu_count()} CPUs, device {device}{gpu}",
-              "noise_px": args.noise_px, "cameras_per_train_clip": args.cameras, "epochs": args.epochs,
+              "noise_px": args.noise_px, "cameras_per_train_clip": args.cameras, "epochs": cfg.epochs,
               "epochs_done": len(history), "model": model_cfg.to_dict(), "train": train_config_dict(cfg),
               "receptive_field": model.receptive_field, "fit_frames": frames, "fit_wall_s": fit_wall,
               "train_frames": sum(c.inputs.shape[0] for c in train_clips), "train_seconds": train_seconds,

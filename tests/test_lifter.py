@@ -195,7 +195,7 @@ def test_training_stops_at_its_time_limit_and_reports_each_epoch():
 
 
 def test_flip_test_is_mirror_symmetric():
-    from hdvr.lifter.train import mirror
+    from hdvr.lifter.data import mirror
 
     model = TemporalLifter(LifterConfig(filter_widths=(3, 3), channels=64))
     torch.nn.init.normal_(model.pose.head.weight, std=0.05)  # an untrained, asymmetric network

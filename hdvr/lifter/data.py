@@ -56,6 +56,17 @@ class LiftingClip:
             raise HDVRError(f"labels3d must be (T={t}, 25, 3), got {self.labels3d.shape}")
 
 
+def mirror(points):
+    """(..., 25, C) keypoints (numpy array or torch tensor) mirrored through the camera's vertical plane: x -> -x,
+    left and right exchanged (normalised 2D, whose x is measured from the principal point, or camera-frame 3D)."""
+    if isinstance(points, torch.Tensor):
+        out = points[..., torch.as_tensor(FLIP_INDEX, device=points.device), :].clone()
+    else:
+        out = points[..., FLIP_INDEX, :].copy()
+    out[..., 0] *= -1
+    return out
+
+
 class WindowBatcher:
     """Training windows of ``receptive_field + out_frames - 1`` input frames predicting ``out_frames`` outputs,
     one starting every ``stride`` frames of every clip, gathered a batch at a time by tensor indexing.
@@ -88,7 +99,6 @@ class WindowBatcher:
         # one row per window: (first output frame's index in the concatenation, clip's first index, clip's last)
         rows = [(o + s, o, o + n - 1) for o, n in zip(offsets, lengths) for s in range(0, n, stride)]
         self.windows = torch.tensor(rows, dtype=torch.long, device=self.device)
-        self.flip_index = torch.from_numpy(FLIP_INDEX).to(self.device)
 
     def __len__(self) -> int:
         return len(self.windows)
@@ -119,9 +129,7 @@ class WindowBatcher:
         inputs, kp = self.inputs[idx_in], self.inputs[idx_out]
         fit, labels = self.fit3d[idx_out], self.labels3d[idx_out]
         if bool(flips.any()):
-            sign = torch.tensor([-1.0, 1.0, 1.0], device=self.device)
             f = flips[:, None, None, None]
-            inputs, kp, fit, labels = (torch.where(f, a[:, :, self.flip_index] * sign, a)
-                                       for a in (inputs, kp, fit, labels))
+            inputs, kp, fit, labels = (torch.where(f, mirror(a), a) for a in (inputs, kp, fit, labels))
         return {"inputs": inputs, "keypoints2d": kp[..., :2].contiguous(), "confidence": kp[..., 2].contiguous(),
                 "fit3d": fit, "labels3d": labels, "has_labels": self.frame_has_labels[first]}

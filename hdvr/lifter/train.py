@@ -18,7 +18,7 @@ import torch
 from hdvr.errors import HDVRError
 from hdvr.io.atomic import atomic_path
 from hdvr.lifter import losses
-from hdvr.lifter.data import FLIP_INDEX, LiftingClip, WindowBatcher
+from hdvr.lifter.data import LiftingClip, WindowBatcher, mirror
 from hdvr.lifter.model import LifterConfig, TemporalLifter
 from hdvr.progress import progress
 
@@ -119,14 +119,6 @@ def train_lifter(clips: list[LiftingClip], model_cfg: LifterConfig | None = None
             break
     model.eval()
     return model.cpu(), history
-
-
-def mirror(points: np.ndarray) -> np.ndarray:
-    """(..., 25, C) keypoints mirrored through the camera's vertical plane: x -> -x, left and right exchanged
-    (normalised 2D, whose x is measured from the principal point, or camera-frame 3D)."""
-    out = points[..., FLIP_INDEX, :].copy()
-    out[..., 0] *= -1
-    return out
 
 
 @torch.no_grad()
