@@ -4,6 +4,8 @@
   it (BODY_25 skeleton: filled dots visible, hollow dots occluded; boxes with track ids).
 - ``docs/img/synth_<genre>.gif``: a short clip per genre (2.5 s, 10 frames/s, 200x150).
 - ``docs/img/synth_floor_paths.png``: top view of the floor paths of one 30 s clip per genre.
+- ``docs/img/synth_plies.png``: the dancer's plie in parallel, turned out (first position) and in second position,
+  from the front and from the side (:func:`hdvr.synth.choreography.turned_out_leg`).
 - ``docs/img/movements_salsa_score.png`` and ``docs/img/movements_salsa_poses.png``: the labeller's score of the
   CMU salsa lead (60_01, 0-6 s) and stick figures of the same seconds (needs ../shared/data).
 
@@ -149,15 +151,50 @@ def salsa_media(out: Path, shared: Path) -> None:
     plt.close(fig)
 
 
+def plie_media(out: Path) -> None:
+    """Three plies (parallel; turned out 0.9 rad; turned out 0.9 rad in second position, 0.25 rad open), bent
+    0.5 rad at the thigh, front and side views, rendered by MuJoCo."""
+    from hdvr.render import DancerRenderer
+    from hdvr.skeleton import ROOT_QPOS, Skeleton
+    from hdvr.synth.choreography import REST, TURNED_OUT_JOINTS, leg_joints, turned_out_leg
+
+    sk = Skeleton()
+    renderer = DancerRenderer(sk, width=240, height=320)
+    tiles = []
+    for title, turnout, opened in (("parallel", 0.0, 0.0), ("turned out (first position)", 0.9, 0.0),
+                                   ("second position", 0.9, 0.25)):
+        q = sk.rest_qpos()
+        q[ROOT_QPOS:] = REST
+        for side in ("left", "right"):
+            for name, v in zip(TURNED_OUT_JOINTS, turned_out_leg(sk, side, turnout, 0.5, opened)):
+                q[ROOT_QPOS + leg_joints(side)[name]] = v
+        q[2] -= sk.keypoints(q)[:, 2].min()  # lowest keypoint on the floor
+        row = []
+        for azimuth in (180.0, 90.0):  # facing the dancer (+x), then from its right side
+            renderer.set_camera(distance=2.6, azimuth=azimuth, elevation=-5.0, lookat=(0.0, 0.0, 0.6))
+            row.append(renderer.render(q))
+        tile = Image.fromarray(np.concatenate(row, axis=1))
+        ImageDraw.Draw(tile).text((6, 6), title, fill=(255, 255, 255))
+        tiles.append(np.asarray(tile))
+    renderer.close()
+    path = out / "synth_plies.png"
+    Image.fromarray(np.concatenate(tiles, axis=1)).save(path)
+    print(f"wrote {path}")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="docs/img")
     ap.add_argument("--shared", default=str(Path(__file__).resolve().parents[2] / "shared" / "data"))
     ap.add_argument("--seed", type=int, default=7)
     ap.add_argument("--skip-genres", action="store_true")
+    ap.add_argument("--only-plies", action="store_true", help="only docs/img/synth_plies.png")
     args = ap.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    plie_media(out)
+    if args.only_plies:
+        return 0
     if Path(args.shared).is_dir():
         salsa_media(out, Path(args.shared))
     else:

@@ -125,3 +125,20 @@ def test_cli_reports_missing_file(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "hdvr", "fit3d", str(tmp_path / "none.npz"), "--out",
                            str(tmp_path / "o.npz")], capture_output=True, text=True)
     assert proc.returncode == 2 and "not found" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_cli_takes_a_named_pose_prior_and_reports_a_missing_one(tmp_path):
+    sk = Skeleton()
+    cam = sk.keypoints(sk.rest_qpos())[None].repeat(6, 0)  # world metres, x forward, z up
+    px = np.stack([320 - 400 * cam[..., 1], 400 - 400 * cam[..., 2], np.ones(cam.shape[:2])], axis=-1)
+    src = tmp_path / "kp.npz"
+    save_keypoints2d(src, Keypoints2D(px.astype(np.float32), BODY25_NAMES, 30.0, (640, 480)))
+    proc = subprocess.run([sys.executable, "-m", "hdvr", "fit3d", str(src), "--out", str(tmp_path / "o.npz"),
+                           "--pose-prior", str(tmp_path / "ballet.npz")], capture_output=True, text=True)
+    assert proc.returncode == 2 and "pose prior" in proc.stderr and "not found" in proc.stderr
+    assert "Traceback" not in proc.stderr and not (tmp_path / "o.npz").exists()
+    proc = subprocess.run([sys.executable, "-m", "hdvr", "fit3d", str(src), "--out", str(tmp_path / "o.npz"),
+                           "--focal", "400", "--refine-sweeps", "1", "--workers", "1", "--pose-prior", "partner"],
+                          capture_output=True, text=True, env={**__import__("os").environ, "HDVR_NO_PROGRESS": "1"})
+    assert proc.returncode == 0, proc.stderr
+    assert load_result3d(tmp_path / "o.npz").meta["settings"]["pose_prior_path"] == "partner"

@@ -67,3 +67,85 @@ def test_all_154_labels_produced_and_recovered(generator):
     report = evaluate_labeller(seconds=60, clips_per_genre=2, seed=0)
     assert report["missing_labels"] == []
     assert min(report["per_part_micro_f1"].values()) >= 0.95
+
+
+def _leg_keypoints(sk, side, hinges):
+    """Keypoints (25, 3) of the generator's rest pose with one leg's TURNED_OUT_JOINTS set to ``hinges``."""
+    from hdvr.skeleton import ROOT_QPOS
+    from hdvr.synth.choreography import REST, TURNED_OUT_JOINTS, leg_joints
+
+    q = sk.rest_qpos()
+    q[ROOT_QPOS:] = REST
+    for name, v in zip(TURNED_OUT_JOINTS, hinges):
+        q[ROOT_QPOS + leg_joints(side)[name]] = v
+    return sk.keypoints(q)
+
+
+def test_a_leg_without_turnout_bends_as_the_sagittal_plie(generator):
+    from hdvr.synth.choreography import REST, leg_joints, turned_out_leg
+
+    for side in ("left", "right"):
+        hinges = turned_out_leg(generator.sk, side, 0.0, 0.4)
+        G = leg_joints(side)
+        # the sole keeps its rest angle to the floor: thigh + knee + ankle as at rest (knee 0.05 rad there)
+        ankle = REST[G["knee_flex"]] + REST[G["ankle_plantarflex"]] - 0.4
+        assert np.allclose(hinges, [0.0, -0.4, 0.0, 0.8, ankle, 0.0], atol=2e-3), hinges
+
+
+@pytest.mark.parametrize("side", ["left", "right"])
+def test_a_turned_out_leg_bends_its_knee_over_its_toes(generator, side):
+    """Knee and foot point the turnout out from straight ahead, the ankle stays under the hip, the sole level."""
+    from hdvr.layouts import BODY25_NAMES as B
+    from hdvr.synth.choreography import turned_out_leg
+
+    sk, out = generator.sk, 1.0 if side == "left" else -1.0
+    for turnout, thigh in ((0.8, 0.5), (1.0, 0.3), (0.4, 0.6)):
+        kp = _leg_keypoints(sk, side, turned_out_leg(sk, side, turnout, thigh))
+        hip, knee, ankle = (kp[B.index(f"{side}_{n}")] for n in ("hip", "knee", "ankle"))
+        toe, heel = kp[B.index(f"{side}_big_toe")], kp[B.index(f"{side}_heel")]
+        d, f = knee - hip, toe - heel
+        assert np.degrees(np.arctan2(out * d[1], d[0])) == pytest.approx(np.degrees(turnout), abs=2.0)
+        assert np.degrees(np.arctan2(out * f[1], f[0])) == pytest.approx(np.degrees(turnout), abs=8.0)
+        assert np.linalg.norm((ankle - hip)[:2]) < 0.01  # metres
+        sole = kp[[B.index(f"{side}_{n}") for n in ("big_toe", "small_toe", "heel")], 2]
+        assert np.ptp(sole) < 0.01
+
+
+def test_a_leg_in_second_position_keeps_its_foot_out_while_it_bends(generator):
+    from hdvr.layouts import BODY25_NAMES as B
+    from hdvr.synth.choreography import turned_out_leg
+
+    sk = generator.sk
+    widths = []
+    for thigh in (0.0, 0.3, 0.55):
+        kp = _leg_keypoints(sk, "left", turned_out_leg(sk, "left", 0.8, thigh, abduction=0.25))
+        widths.append((kp[B.index("left_ankle")] - kp[B.index("left_hip")])[1])
+    assert widths[0] == pytest.approx(0.714 * np.sin(0.25), abs=0.02)  # leg length 0.714 m at the default height
+    assert np.ptp(widths) < 0.01
+
+
+def _plie_knee_angles(generator, genre, seeds=4):
+    """Degrees the knees point out from the pelvis' forward direction wherever both knees bend over 0.5 rad."""
+    from hdvr.layouts import BODY25_NAMES as B
+    from hdvr.skeleton import ROOT_QPOS
+    from hdvr.synth.choreography import JI
+
+    angles = []
+    for seed in range(seeds):
+        chor = generator.generate(genre, 20, np.random.default_rng([5, seed]))
+        kp, q = chor.keypoints, chor.qpos[:, ROOT_QPOS:]
+        for t in np.flatnonzero((q[:, JI["left_knee_flex"]] > 0.5) & (q[:, JI["right_knee_flex"]] > 0.5)):
+            across = kp[t, B.index("left_hip")] - kp[t, B.index("right_hip")]
+            across = across[:2] / np.linalg.norm(across[:2])
+            ahead = np.array([across[1], -across[0]])
+            for side, out in (("left", 1.0), ("right", -1.0)):
+                d = (kp[t, B.index(f"{side}_knee")] - kp[t, B.index(f"{side}_hip")])[:2]
+                angles.append(np.degrees(np.arctan2(out * d @ across, d @ ahead)))
+    return np.array(angles)
+
+
+def test_ballet_bends_its_knees_turned_out_and_tango_in_parallel(generator):
+    ballet, tango = _plie_knee_angles(generator, "ballet"), _plie_knee_angles(generator, "tango")
+    assert ballet.size > 50 and tango.size > 50
+    assert np.median(ballet) > 30.0
+    assert np.median(tango) < 15.0

@@ -33,6 +33,10 @@ def add_fit_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--pose-prior-weight", type=float, default=None,
                    help="weight of the learned hinge-angle prior (default 3; 2 fits clean, e.g. synthetic, 2D "
                         "better and detector-like noise worse: docs/fitting.md)")
+    p.add_argument("--pose-prior", default=None, metavar="NAME|NPZ",
+                   help="the pose prior: 'all' (default: the nine genres), 'partner' (rumba, swing, tango, waltz: "
+                        "for salsa and ballroom) or an NPZ built for the style (scripts/build_pose_prior.py "
+                        "--genres ...)")
     p.add_argument("--no-upright", action="store_true",
                    help="ablation: no trunk tilt prior (for dancers who lean far towards or away from the camera "
                         "for long stretches, e.g. floor work)")
@@ -49,6 +53,14 @@ def add_fit_arguments(p: argparse.ArgumentParser) -> None:
                    help="frames per chunk of a long clip (default 900; results depend on it, not on --workers)")
 
 
+def prior_argument(value: str) -> str:
+    """``--pose-prior``: a shipped prior's name as it is, a file as an absolute path (chunk workers may run
+    elsewhere)."""
+    from hdvr.fitting.prior import NAMED_PRIORS
+
+    return value if value in NAMED_PRIORS else str(Path(value).resolve())
+
+
 def settings_from_args(args: argparse.Namespace, **extra):
     """FitSettings from parsed options (``--paper`` first, explicit options on top)."""
     from hdvr.fitting.presets import FitSettings, paper_settings
@@ -58,7 +70,7 @@ def settings_from_args(args: argparse.Namespace, **extra):
                       ("height_m", "height"), ("joint_ranges", "joint_ranges"),
                       ("refine_sweeps", "refine_sweeps"), ("random_seed", "seed"), ("workers", "workers"),
                       ("chunk_frames", "chunk_frames"), ("smooth_2d", "smooth_2d"),
-                      ("pose_prior_weight", "pose_prior_weight")):
+                      ("pose_prior_weight", "pose_prior_weight"), ("pose_prior_path", "pose_prior")):
         value = getattr(args, attr, None)
         if value is not None:
             overrides[key] = value
@@ -79,6 +91,11 @@ def settings_from_args(args: argparse.Namespace, **extra):
         overrides["upright_weight"] = 0.0
     if getattr(args, "no_limb_depth", False):
         overrides["limb_depth"] = False
+    if overrides.get("pose_prior_path") is not None:
+        from hdvr.fitting.prior import load_prior
+
+        overrides["pose_prior_path"] = prior_argument(overrides["pose_prior_path"])
+        load_prior(overrides["pose_prior_path"])  # a missing or wrong file stops here, with one line
     overrides.update(extra)
     return paper_settings(**overrides) if getattr(args, "paper", False) else FitSettings(**overrides)
 

@@ -23,6 +23,10 @@ def register(subparsers) -> None:
     p.add_argument("--detect-every", type=int, default=3)
     p.add_argument("--focal", type=float, default=None, help="focal length in pixels if known (else estimated)")
     p.add_argument("--render", action="store_true", help="also render each fitted dancer to dancer_<i>.3d.mp4")
+    p.add_argument("--pose-prior", default=None, metavar="NAME|NPZ",
+                   help="the 3D fit's pose prior: 'all' (default: the nine genres), 'partner' (rumba, swing, "
+                        "tango, waltz: for salsa and ballroom) or an NPZ built for the style "
+                        "(scripts/build_pose_prior.py --genres ...)")
     genre = p.add_mutually_exclusive_group()
     genre.add_argument("--recogniser", metavar="PATH", help="genre recogniser checkpoint (default: the one shipped "
                                                             "in hdvr/data/recognisers.pt)")
@@ -35,7 +39,14 @@ def run(args) -> int:
     from hdvr.pipeline import analyse_video, make_detector
 
     detector = make_detector(args.detector, args.detector_size, args.pose_model, args.openpose_json)
-    settings = FitSettings(focal=args.focal) if args.focal else FitSettings()
+    overrides = {"focal": args.focal} if args.focal else {}
+    if args.pose_prior:
+        from hdvr.commands.fit3d import prior_argument
+        from hdvr.fitting.prior import load_prior
+
+        overrides["pose_prior_path"] = prior_argument(args.pose_prior)
+        load_prior(overrides["pose_prior_path"])  # a missing or wrong file stops here, before the tracking
+    settings = FitSettings(**overrides)
     result = analyse_video(args.video, args.out, detector=detector, **dancer_arguments(args),
                            detect_every=args.detect_every, fit_settings=settings,
                            render_size=(320, 240) if args.render else None,

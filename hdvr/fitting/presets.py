@@ -75,6 +75,7 @@ class FitSettings:
     penetration_weight: float = 3000.0  # per metre below the floor
     skate_weight: float = 100.0  # per metre of sliding while in contact
     pose_prior_weight: float = 3.0  # learned hinge prior (hdvr.fitting.prior), per unit Mahalanobis; 0 = off
+    pose_prior_path: str | None = None  # a shipped prior's name (hdvr.fitting.prior.NAMED_PRIORS) or an NPZ; None: all
     upright_weight: float = 64.0  # trunk tilt prior (residuals.UprightTerm), per unit sine of tilt; 0 = off
     upright_robust_deg: float | None = 30.0  # tilt (degrees) beyond which the tilt prior gives way (Cauchy)
     bone_prior_weight: float = 1.0  # multiplies (b - mean h) / (std h)

@@ -17,7 +17,12 @@ from pathlib import Path
 
 import numpy as np
 
+from hdvr.errors import HDVRError
+
 PRIOR_PATH = Path(__file__).resolve().parents[1] / "data" / "pose_prior.npz"
+#: Priors shipped with the package, by name: ``all`` (the default, the nine genres) and ``partner`` (the partner
+#: dances rumba, swing, tango and waltz: legs near parallel, for salsa and ballroom; docs/fitting.md).
+NAMED_PRIORS = {"all": PRIOR_PATH, "partner": PRIOR_PATH.with_name("pose_prior_partner.npz")}
 
 
 @dataclass
@@ -33,11 +38,21 @@ class PosePrior:
     """The hinge-angle Gaussian mixture (see module doc)."""
 
     def __init__(self, path: str | Path = PRIOR_PATH):
-        data = np.load(path)
-        self.means = data["means"]  # (K, 34) radians
-        self.sqrt_precision = data["sqrt_precision"]  # (K, R, 34)
-        self.log_norm = data["log_norm"] - data["log_norm"].min()  # (K,) >= 0
-        self.source = str(data["source"])
+        path = Path(path)
+        if not path.is_file():
+            raise HDVRError(f"pose prior {path} not found (build one with scripts/build_pose_prior.py)")
+        try:
+            with np.load(path) as data:
+                self.means = data["means"]  # (K, 34) radians
+                self.sqrt_precision = data["sqrt_precision"]  # (K, R, 34)
+                self.log_norm = data["log_norm"] - data["log_norm"].min()  # (K,) >= 0
+                self.source = str(data["source"])
+        except (OSError, ValueError, KeyError) as exc:
+            raise HDVRError(f"pose prior {path} is not a prior NPZ of scripts/build_pose_prior.py ({exc})") from None
+        k = len(self.means)
+        if self.means.shape != (k, 34) or self.sqrt_precision.shape[::2] != (k, 34) or self.log_norm.shape != (k,):
+            raise HDVRError(f"pose prior {path} has the wrong shapes: means {self.means.shape}, sqrt_precision "
+                            f"{self.sqrt_precision.shape}, log_norm {self.log_norm.shape} (34 hinges expected)")
 
     @property
     def num_components(self) -> int:
@@ -58,7 +73,13 @@ class PosePrior:
         return PriorTerm(weight * self.sqrt_precision[k], self.means[k], weight * float(np.sqrt(self.log_norm[k])))
 
 
-@lru_cache(maxsize=1)
 def shipped_prior() -> PosePrior:
     """The prior shipped with the package (loaded once per process)."""
-    return PosePrior()
+    return load_prior(None)
+
+
+@lru_cache(maxsize=4)
+def load_prior(path: str | None) -> PosePrior:
+    """The prior named ``path`` (:data:`NAMED_PRIORS`; None: ``all``) or in the NPZ file ``path``, loaded once
+    per process and path."""
+    return PosePrior(NAMED_PRIORS.get("all" if path is None else path, path))

@@ -29,7 +29,7 @@ import numpy as np
 from hdvr.fitting.intrinsics import smooth_focal
 from hdvr.fitting.kinematics import NUM_TANGENT, DancerKinematics, qpos_from_tangent, tangent_from_qpos
 from hdvr.fitting.presets import FitSettings
-from hdvr.fitting.prior import shipped_prior
+from hdvr.fitting.prior import load_prior
 from hdvr.fitting.residuals import FloorTerms, FrameProblem, LinearTerm, UprightTerm
 from hdvr.fitting.seeds import LIMB_NAMES, SEGMENTS, initial_pose, mirror_limb, random_bones, random_qpos
 from hdvr.fitting.solver import parameter_bounds, solve_frame
@@ -101,7 +101,7 @@ class WindowFitter:
         self.base_bones = kin.bone_lengths
         self.visible = ((weights > 0) & np.isfinite(obs).all(axis=2)).sum(axis=1)
         self.reinit_count = 0
-        self.prior = shipped_prior() if settings.pose_prior_weight > 0 else None
+        self.prior = load_prior(settings.pose_prior_path) if settings.pose_prior_weight > 0 else None
         self.vertical = vertical  # (3,) the clip's up direction in the camera frame, if known
         self._upright: tuple[bytes, UprightTerm] | None = None  # (bone lengths it was built for, term)
 

@@ -20,8 +20,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.ndimage import maximum_filter1d, uniform_filter1d
+from scipy.optimize import least_squares
 
 from hdvr import dh
+from hdvr.layouts import BODY25_NAMES
 from hdvr.movements.labeller import _runs
 from hdvr.movements.taxonomy import load_taxonomy
 from hdvr.skeleton import ROOT_QPOS, Skeleton
@@ -76,6 +78,73 @@ def leg_ik(x, z, l1: float, l2: float, knee_min: float):
 def leg_fk(theta, knee, l1: float, l2: float):
     """Ankle (x behind, z below the hip; metres) of the sagittal two-link leg (inverse of :func:`leg_ik`)."""
     return (l1 * np.sin(theta) + l2 * np.sin(theta + knee), l1 * np.cos(theta) + l2 * np.cos(theta + knee))
+
+
+def _rest_hinges(sk: Skeleton) -> np.ndarray:
+    """(41,) qpos of the generator's rest pose (:data:`REST`), pelvis upright at the origin's height."""
+    q = sk.rest_qpos()
+    q[ROOT_QPOS:] = REST
+    return q
+
+
+TURNED_OUT_JOINTS = ("hip_adduct", "hip_extend", "hip_rotate", "knee_flex", "ankle_plantarflex", "ankle_invert")
+
+
+def turned_out_leg(sk: Skeleton, side: str, turnout: float, thigh: float, abduction: float = 0.0) -> np.ndarray:
+    """Hinges of a bent, turned-out leg, as in a plie or a passe: (hip_adduct, hip_extend, hip_rotate, knee_flex,
+    ankle_plantarflex, ankle_invert) in radians.
+
+    The knee bends ``2 * thigh`` rad and points ``turnout`` rad out from straight ahead, over the toes; the ankle
+    is under the hip, or with ``abduction`` (rad; second position) as far out as the straight leg opened that far
+    puts it, whatever the bend (the feet stay where they stand while the dancer sinks).
+    The sole stays level and points as far out as the knee (so a straight leg, ``thigh`` 0, is turned out too:
+    first position). The three hip hinges and the foot are solved on the dancer's own kinematics (MuJoCo
+    forward kinematics of ``sk``, pelvis upright): the chain's hinge order (adduct, extend, rotate) has no simple
+    closed form for this. Results are cached on ``sk`` per rounded angle and bone set."""
+    key = (side, round(float(turnout), 3), round(float(thigh), 3), round(float(abduction), 3),
+           np.asarray(sk.bone_lengths).round(4).tobytes())
+    cache = sk.__dict__.setdefault("_turned_out_cache", {})
+    if key in cache:
+        return cache[key].copy()
+    q0 = _rest_hinges(sk)  # the generator's rest pose and margins (LOWER, UPPER), not the model's
+    G = leg_joints(side)
+    free = [ROOT_QPOS + G[k] for k in ("hip_adduct", "hip_extend", "hip_rotate", "ankle_plantarflex", "ankle_invert")]
+    knee_flex = float(np.clip(2 * thigh, LOWER[G["knee_flex"]], UPPER[G["knee_flex"]]))
+    q0[ROOT_QPOS + G["knee_flex"]] = knee_flex  # the hips and foot make up for a knee that cannot straighten
+    names = [f"{side}_{n}" for n in ("hip", "knee", "ankle", "big_toe", "small_toe", "heel")]
+    ids = [BODY25_NAMES.index(n) for n in names]
+    rest = sk.keypoints(_rest_hinges(sk))[ids]
+    hip = rest[0]
+    l1, l2 = np.linalg.norm(rest[1] - rest[0]), np.linalg.norm(rest[2] - rest[1])
+    out = 1.0 if side == "left" else -1.0  # +y is the dancer's left
+    ahead = np.array([np.cos(turnout), out * np.sin(turnout), 0.0])
+    # the ankle stays where the straight leg put it sideways (second position: (l1 + l2) sin(abduction) out) and
+    # comes as near the hip as the bent knee makes the leg; the knee points along ``ahead``, off the hip-ankle line
+    reach = np.sqrt(l1 * l1 + l2 * l2 + 2 * l1 * l2 * np.cos(knee_flex))
+    wide = min((l1 + l2) * np.sin(abduction), 0.95 * reach)
+    axis = np.array([0.0, out * wide, -np.sqrt(reach * reach - wide * wide)]) / reach
+    along = (l1 * l1 - l2 * l2 + reach * reach) / (2 * reach)
+    side_dir = ahead - (ahead @ axis) * axis
+    side_dir /= np.linalg.norm(side_dir)
+    knee = along * axis + np.sqrt(max(l1 * l1 - along * along, 0.0)) * side_dir
+    targets = hip + np.stack([knee, reach * axis])
+    sole_rest = rest[3:, 2] - rest[2, 2]  # sole points' heights below the ankle, standing
+    foot_rest = (rest[3] - rest[5])[:2]  # heel to big toe, standing (metres, horizontal)
+    c, s = np.cos(out * turnout), np.sin(out * turnout)
+    foot_target = np.array([[c, -s], [s, c]]) @ foot_rest  # the foot turned out as far as the knee
+
+    def residual(x):
+        q = q0.copy()
+        q[free] = x
+        kp = sk.keypoints(q)[ids]
+        return np.concatenate([(kp[1:3] - targets).ravel(), kp[3:, 2] - kp[2, 2] - sole_rest,
+                               (kp[3] - kp[5])[:2] - foot_target])
+
+    lo, hi = LOWER[[i - ROOT_QPOS for i in free]], UPPER[[i - ROOT_QPOS for i in free]]
+    x = least_squares(residual, np.clip(np.zeros(5), lo, hi), bounds=(lo, hi)).x
+    hinges = np.array([x[0], x[1], x[2], knee_flex, x[3], x[4]])
+    cache[key] = hinges
+    return hinges.copy()
 
 
 def ramp_profile(n: int, ramp: float = 0.2) -> np.ndarray:
@@ -346,20 +415,14 @@ class ChoreographyGenerator:
                 t += self._write_move(h, allj, t, cur, neutral, 2.0)
                 t += self._hold(h, allj, t, int(0.4 * self.fps), neutral)
                 continue
-            if kind in ("plie", "relieve"):
+            if kind == "plie":
+                n = self._plie(h, allj, t, neutral, style, beat, rng, L, R)
+            elif kind == "relieve":
                 target = neutral.copy()
-                if kind == "plie":
-                    phi = rng.uniform(0.3, 0.55) * style.amplitude / 0.8
-                    phi = min(phi, 0.6)
-                    for s in (L, R):
-                        target[allj.index(s["hip_extend"])] = -phi
-                        target[allj.index(s["knee_flex"])] = 2 * phi
-                        target[allj.index(s["ankle_plantarflex"])] = -phi
-                else:
-                    phi = rng.uniform(0.55, 0.9)
-                    for s in (L, R):
-                        target[allj.index(s["ankle_plantarflex"])] = phi
-                        target[allj.index(s["toe_flex"])] = -min(phi, 1.3)
+                phi = rng.uniform(0.55, 0.9)
+                for s in (L, R):
+                    target[allj.index(s["ankle_plantarflex"])] = phi
+                    target[allj.index(s["toe_flex"])] = -min(phi, 1.3)
                 n = self._write_move(h, allj, t, cur, target, rng.uniform(1.2, 2.0))
                 n += self._hold(h, allj, t + n, int(beat * rng.choice([1, 2])), target)
                 n += self._write_move(h, allj, t + n, target, neutral, rng.uniform(1.2, 2.0))
@@ -369,7 +432,7 @@ class ChoreographyGenerator:
                 gj = [G["hip_adduct"], G["hip_extend"], G["hip_rotate"], G["knee_flex"]]
                 phi = rng.uniform(0.65, 0.8)
                 lifted = REST[gj] + np.array([0.0, -phi, 0.0, 2 * phi])  # thigh forward, shank back: foot rises
-                passe = lifted + np.array([0.0, 0.0, rng.uniform(0.0, 0.8), 0.0])
+                passe = turned_out_leg(self.sk, side, rng.uniform(*style.turnout_rad), phi)[:4]  # knee out as the genre
                 speed = self._speed(style, rng)
                 up = self._write_move(h, gj, t, h[t - 1, gj] if t else h[0, gj], lifted, speed)
                 up += self._write_move(h, gj, t + up, lifted, passe, speed)
@@ -408,6 +471,73 @@ class ChoreographyGenerator:
                 prims.append(("legs", kind, t, t + n))
             t += n
             t += self._hold(h, allj, t, max(int(beat * rng.choice([1, 2])), int(0.4 * self.fps)), h[t - 1, allj])
+
+    def _plie(self, h, allj, t, neutral, style, beat, rng, L, R):
+        """A plie as the genre dances it: the legs turn out (first position, the feet pivoting on the floor), one
+        foot may slide out to second position (a tendu: the other leg carries the weight), the knees bend over the
+        toes and straighten, and the legs close and turn in again. Returns the frames written."""
+        phi = min(rng.uniform(0.3, 0.55) * style.amplitude / 0.8, 0.6)  # thigh lean (rad); knees bend 2 phi
+        turnout = rng.uniform(*style.turnout_rad)
+        opened = rng.uniform(0.12, 0.3) if rng.random() < style.second_position else 0.0
+
+        def legs(lean, abduction):
+            out = neutral.copy()
+            for side, joints in (("left", L), ("right", R)):
+                for name, v in zip(TURNED_OUT_JOINTS, turned_out_leg(self.sk, side, turnout, lean, abduction)):
+                    out[allj.index(joints[name])] = v
+            return out
+
+        first, second = legs(0.0, 0.0), legs(0.0, opened)
+        # bending: the knees stay over the toes all the way down (the turned-out leg is not linear in the hinges)
+        path = np.stack([legs(phi * k / 4, opened) for k in range(5)])
+        working = 1 if rng.random() < 0.5 else 2  # stance code of the leg that stays while the other slides out
+        speed = rng.uniform(1.2, 2.0)
+        n = self._turn_out(h, allj, t, neutral, first, speed, L, R) if turnout > 0.02 else 0
+        if opened:
+            m = self._write_move(h, allj, t + n, first, second, speed)
+            self.stance[t + n:t + n + m] = working
+            n += m
+        n += self._write_path(h, allj, t + n, path, speed)
+        n += self._hold(h, allj, t + n, int(beat * rng.choice([1, 2])), path[-1])
+        speed = rng.uniform(1.2, 2.0)
+        n += self._write_path(h, allj, t + n, path[::-1], speed)
+        if opened:
+            m = self._write_move(h, allj, t + n, second, first, speed)
+            self.stance[t + n:t + n + m] = working
+            n += m
+        if turnout > 0.02:
+            n += self._turn_out(h, allj, t + n, first, neutral, speed, L, R)
+        return n
+
+    def _turn_out(self, h, allj, t, start, end, speed, L, R):
+        """Turn the legs out (or in) one at a time from ``start`` to ``end`` (both legs' hinges over ``allj``):
+        each foot turns unweighted on the floor while the other leg carries the weight."""
+        n = 0
+        cur = start.copy()
+        for code, joints in ((2, L), (1, R)):  # the left foot turns while the right leg stands (code 2), then
+            nxt = cur.copy()
+            cols = [allj.index(j) for j in joints.values()]
+            nxt[cols] = end[cols]
+            m = self._write_move(h, allj, t + n, cur, nxt, speed)
+            self.stance[t + n:t + n + m] = code
+            n += m
+            cur = nxt
+        return n
+
+    def _write_path(self, h, joints, t0, keyframes, speed):
+        """Like :meth:`_write_move`, along piecewise-linear ``keyframes`` (K, len(joints)) evenly spaced in
+        progress; the duration comes from the largest joint change between the first and last keyframe."""
+        delta = np.max(np.abs(keyframes[-1] - keyframes[0]))
+        n = max(int(round(self.fps * delta / max(speed * 0.8, 1e-3))), int(0.15 * self.fps), 2)
+        full = n
+        n = min(n, h.shape[0] - t0)
+        if n <= 0:
+            return 0
+        p = ramp_profile(full)[:n] * (len(keyframes) - 1)
+        k = np.minimum(p.astype(int), len(keyframes) - 2)
+        f = (p - k)[:, None]
+        h[t0:t0 + n][:, joints] = keyframes[k] * (1 - f) + keyframes[k + 1] * f
+        return n
 
     def _walk(self, h, yaw, t, style, beat, rng):
         """Travelling: 3-6 steps forward or backward (inverted pendulum: the stance leg swings from in front to
@@ -561,7 +691,8 @@ class ChoreographyGenerator:
         gesture_side = side
         cur = h[t - 1, gj].copy() if t > 0 else h[0, gj].copy()
         amp = style.amplitude
-        lift = np.array([rng.uniform(-0.35, 0.0) * amp, rng.uniform(-0.7, 0.3) * amp, rng.uniform(-0.4, 0.6),
+        turnout = style.turnout_rad[0]  # the genre's least turnout: a ballet leg gestures turned out
+        lift = np.array([rng.uniform(-0.35, 0.0) * amp, rng.uniform(-0.7, 0.3) * amp, rng.uniform(-0.4, 0.6) - turnout,
                          rng.uniform(0.35, 1.2), 0.0])  # the foot stays flexed until the leg is up
         phi = rng.uniform(0.3, 0.45)
         vertical = np.array([cur[0], -phi, cur[2], 2 * phi + REST[gj[3]], 0.0])  # the foot rises straight up

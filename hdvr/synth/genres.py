@@ -43,6 +43,8 @@ class GenreStyle:
     step_rad: tuple[float, float] = (0.2, 0.3)  # hip swing of a step each side of vertical (rad)
     curve_rad: float = 0.0  # largest heading change per step of a solo dancer (rad): curved paths
     travel_radius_m: float = 1.0  # paths stay within this distance of the dancer's start (metres)
+    turnout_rad: tuple[float, float] = (0.0, 0.0)  # hip external rotation of plies, passes and gestures (rad)
+    second_position: float = 0.0  # probability that a plie is done with the feet apart (second position)
 
 
 def _style(name, bpm, bars, speed, amp, couple, osc, head, neck, trunk, arm, legs, gesture, sym=0.3):
@@ -123,6 +125,18 @@ TRAVEL = {"ballet": (2.5, (0.3, 0.4), 0.05, 2.2), "belly_dance": (0.5, (0.15, 0.
           "waltz": (6.0, (0.25, 0.35), 0.0, 2.0)}
 for _name, (_w, _step, _curve, _radius) in TRAVEL.items():
     STYLES[_name] = replace(STYLES[_name], walk=_w, step_rad=_step, curve_rad=_curve, travel_radius_m=_radius)
+
+
+#: Turnout per genre: range of the hip's external rotation in plies, passes and leg gestures (rad; the knee points
+#: this far out from straight ahead) and the probability of a plie in second position (feet apart, legs abducted
+#: 0.12-0.3 rad). Ballet is danced turned out (about 40-60 deg at the hip; the rest of the feet's 90 deg comes from
+#: knees and ankles); hip hop squats wide with the knees out; belly dance and flamenco bend the knees a little out;
+#: the ballroom and partner dances stay near parallel.
+TURNOUT = {"ballet": ((0.6, 1.0), 0.4), "belly_dance": ((0.0, 0.4), 0.3), "flamenco": ((0.2, 0.6), 0.2),
+           "hip_hop": ((0.0, 0.7), 0.5), "rumba": ((0.0, 0.3), 0.1), "swing": ((0.0, 0.3), 0.2),
+           "tango": ((0.0, 0.3), 0.1), "tap": ((0.0, 0.4), 0.2), "waltz": ((0.0, 0.2), 0.05)}
+for _name, (_turnout, _second) in TURNOUT.items():
+    STYLES[_name] = replace(STYLES[_name], turnout_rad=_turnout, second_position=_second)
 
 
 def genre_style(name: str) -> GenreStyle:
