@@ -87,6 +87,9 @@ def _rest_hinges(sk: Skeleton) -> np.ndarray:
     return q
 
 
+#: joint speed (rad/s of hip abduction) of a foot sliding out to second position or back: with the weight on the
+#: other leg the working foot travels about 1.6 m per radian, so about 0.5 m/s
+TENDU_SPEED_RAD_S = 0.3
 TURNED_OUT_JOINTS = ("hip_adduct", "hip_extend", "hip_rotate", "knee_flex", "ankle_plantarflex", "ankle_invert")
 
 
@@ -94,9 +97,10 @@ def turned_out_leg(sk: Skeleton, side: str, turnout: float, thigh: float, abduct
     """Hinges of a bent, turned-out leg, as in a plie or a passe: (hip_adduct, hip_extend, hip_rotate, knee_flex,
     ankle_plantarflex, ankle_invert) in radians.
 
-    The knee bends ``2 * thigh`` rad and points ``turnout`` rad out from straight ahead, over the toes; the ankle
-    is under the hip, or with ``abduction`` (rad; second position) as far out as the straight leg opened that far
-    puts it, whatever the bend (the feet stay where they stand while the dancer sinks).
+    The knee bends ``2 * thigh`` rad more than at rest and points ``turnout`` rad out from straight ahead, over the
+    toes; the ankle stays where it stands at rest (under the hip), or with ``abduction`` (rad; second position) as
+    far out as the straight leg opened that far puts it, whatever the bend (the feet stay where they stand while
+    the dancer sinks).
     The sole stays level and points as far out as the knee (so a straight leg, ``thigh`` 0, is turned out too:
     first position). The three hip hinges and the foot are solved on the dancer's own kinematics (MuJoCo
     forward kinematics of ``sk``, pelvis upright): the chain's hinge order (adduct, extend, rotate) has no simple
@@ -109,8 +113,8 @@ def turned_out_leg(sk: Skeleton, side: str, turnout: float, thigh: float, abduct
     q0 = _rest_hinges(sk)  # the generator's rest pose and margins (LOWER, UPPER), not the model's
     G = leg_joints(side)
     free = [ROOT_QPOS + G[k] for k in ("hip_adduct", "hip_extend", "hip_rotate", "ankle_plantarflex", "ankle_invert")]
-    knee_flex = float(np.clip(2 * thigh, LOWER[G["knee_flex"]], UPPER[G["knee_flex"]]))
-    q0[ROOT_QPOS + G["knee_flex"]] = knee_flex  # the hips and foot make up for a knee that cannot straighten
+    knee_flex = float(np.clip(REST[G["knee_flex"]] + 2 * thigh, LOWER[G["knee_flex"]], UPPER[G["knee_flex"]]))
+    q0[ROOT_QPOS + G["knee_flex"]] = knee_flex
     names = [f"{side}_{n}" for n in ("hip", "knee", "ankle", "big_toe", "small_toe", "heel")]
     ids = [BODY25_NAMES.index(n) for n in names]
     rest = sk.keypoints(_rest_hinges(sk))[ids]
@@ -118,11 +122,13 @@ def turned_out_leg(sk: Skeleton, side: str, turnout: float, thigh: float, abduct
     l1, l2 = np.linalg.norm(rest[1] - rest[0]), np.linalg.norm(rest[2] - rest[1])
     out = 1.0 if side == "left" else -1.0  # +y is the dancer's left
     ahead = np.array([np.cos(turnout), out * np.sin(turnout), 0.0])
-    # the ankle stays where the straight leg put it sideways (second position: (l1 + l2) sin(abduction) out) and
-    # comes as near the hip as the bent knee makes the leg; the knee points along ``ahead``, off the hip-ankle line
+    # the ankle stays where it stands at rest, or in second position (l1 + l2) sin(abduction) further out, and comes
+    # as near the hip as the bent knee makes the leg; the knee points along ``ahead``, off the hip-ankle line. So a
+    # straight parallel leg (thigh 0, turnout 0, abduction 0) is the rest pose itself.
     reach = np.sqrt(l1 * l1 + l2 * l2 + 2 * l1 * l2 * np.cos(knee_flex))
-    wide = min((l1 + l2) * np.sin(abduction), 0.95 * reach)
-    axis = np.array([0.0, out * wide, -np.sqrt(reach * reach - wide * wide)]) / reach
+    stand = (rest[2] - hip)[:2] + np.array([0.0, out * (l1 + l2) * np.sin(abduction)])
+    stand *= min(1.0, 0.95 * reach / max(np.linalg.norm(stand), 1e-9))
+    axis = np.r_[stand, -np.sqrt(reach * reach - stand @ stand)] / reach
     along = (l1 * l1 - l2 * l2 + reach * reach) / (2 * reach)
     side_dir = ahead - (ahead @ axis) * axis
     side_dir /= np.linalg.norm(side_dir)
@@ -489,12 +495,13 @@ class ChoreographyGenerator:
 
         first, second = legs(0.0, 0.0), legs(0.0, opened)
         # bending: the knees stay over the toes all the way down (the turned-out leg is not linear in the hinges)
-        path = np.stack([legs(phi * k / 4, opened) for k in range(5)])
+        path = np.stack([legs(phi * k / 8, opened) for k in range(9)])
         working = 1 if rng.random() < 0.5 else 2  # stance code of the leg that stays while the other slides out
         speed = rng.uniform(1.2, 2.0)
         n = self._turn_out(h, allj, t, neutral, first, speed, L, R) if turnout > 0.02 else 0
+        slide = min(speed, TENDU_SPEED_RAD_S)  # the working foot slides about 1.6 m per radian of opening
         if opened:
-            m = self._write_move(h, allj, t + n, first, second, speed)
+            m = self._write_move(h, allj, t + n, first, second, slide)
             self.stance[t + n:t + n + m] = working
             n += m
         n += self._write_path(h, allj, t + n, path, speed)
@@ -502,7 +509,7 @@ class ChoreographyGenerator:
         speed = rng.uniform(1.2, 2.0)
         n += self._write_path(h, allj, t + n, path[::-1], speed)
         if opened:
-            m = self._write_move(h, allj, t + n, second, first, speed)
+            m = self._write_move(h, allj, t + n, second, first, min(speed, TENDU_SPEED_RAD_S))
             self.stance[t + n:t + n + m] = working
             n += m
         if turnout > 0.02:
@@ -691,8 +698,7 @@ class ChoreographyGenerator:
         gesture_side = side
         cur = h[t - 1, gj].copy() if t > 0 else h[0, gj].copy()
         amp = style.amplitude
-        turnout = style.turnout_rad[0]  # the genre's least turnout: a ballet leg gestures turned out
-        lift = np.array([rng.uniform(-0.35, 0.0) * amp, rng.uniform(-0.7, 0.3) * amp, rng.uniform(-0.4, 0.6) - turnout,
+        lift = np.array([rng.uniform(-0.35, 0.0) * amp, rng.uniform(-0.7, 0.3) * amp, rng.uniform(-0.4, 0.6),
                          rng.uniform(0.35, 1.2), 0.0])  # the foot stays flexed until the leg is up
         phi = rng.uniform(0.3, 0.45)
         vertical = np.array([cur[0], -phi, cur[2], 2 * phi + REST[gj[3]], 0.0])  # the foot rises straight up
