@@ -698,17 +698,18 @@ class ChoreographyGenerator:
         gesture_side = side
         cur = h[t - 1, gj].copy() if t > 0 else h[0, gj].copy()
         amp = style.amplitude
-        lift = np.array([rng.uniform(-0.35, 0.0) * amp, rng.uniform(-0.7, 0.3) * amp, rng.uniform(-0.4, 0.6),
+        turnout = style.turnout_rad[0]  # the genre's least turnout: a ballet leg gestures turned out
+        lift = np.array([rng.uniform(-0.35, 0.0) * amp, rng.uniform(-0.7, 0.3) * amp, rng.uniform(-0.4, 0.6) - turnout,
                          rng.uniform(0.35, 1.2), 0.0])  # the foot stays flexed until the leg is up
         phi = rng.uniform(0.3, 0.45)
         vertical = np.array([cur[0], -phi, cur[2], 2 * phi + REST[gj[3]], 0.0])  # the foot rises straight up
         t += self._write_move(h, gj, t, cur, vertical, self._speed(style, rng))
         t += self._hold(h, gj, t, int(0.35 * self.fps), vertical)
         h[t:, gj] = vertical
+        lifted_from = t  # the foot is off the floor from here on: on its way to the lift it must clear the floor
         t += self._write_move(h, gj, t, vertical, lift, self._speed(style, rng))
         t += self._hold(h, gj, t, int(0.35 * self.fps), lift)
         h[t:, gj] = lift
-        lifted_from = t
         kinds = list(style.gesture)
         w = np.array([style.gesture[k] for k in kinds], dtype=float)
         for _ in range(int(rng.integers(1, 4))):
