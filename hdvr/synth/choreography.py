@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.interpolate import CubicSpline
 from scipy.ndimage import maximum_filter1d, uniform_filter1d
 from scipy.optimize import least_squares
 
@@ -484,6 +485,7 @@ class ChoreographyGenerator:
         toes and straighten, and the legs close and turn in again. Returns the frames written."""
         phi = min(rng.uniform(0.3, 0.55) * style.amplitude / 0.8, 0.6)  # thigh lean (rad); knees bend 2 phi
         turnout = rng.uniform(*style.turnout_rad)
+        turnout = turnout if turnout > 0.02 else 0.0  # a parallel plie starts and ends at the rest pose exactly
         opened = rng.uniform(0.12, 0.3) if rng.random() < style.second_position else 0.0
 
         def legs(lean, abduction):
@@ -532,7 +534,7 @@ class ChoreographyGenerator:
         return n
 
     def _write_path(self, h, joints, t0, keyframes, speed):
-        """Like :meth:`_write_move`, along piecewise-linear ``keyframes`` (K, len(joints)) evenly spaced in
+        """Like :meth:`_write_move`, along a cubic spline through ``keyframes`` (K, len(joints)) evenly spaced in
         progress; the duration comes from the largest joint change between the first and last keyframe."""
         delta = np.max(np.abs(keyframes[-1] - keyframes[0]))
         n = max(int(round(self.fps * delta / max(speed * 0.8, 1e-3))), int(0.15 * self.fps), 2)
@@ -540,10 +542,8 @@ class ChoreographyGenerator:
         n = min(n, h.shape[0] - t0)
         if n <= 0:
             return 0
-        p = ramp_profile(full)[:n] * (len(keyframes) - 1)
-        k = np.minimum(p.astype(int), len(keyframes) - 2)
-        f = (p - k)[:, None]
-        h[t0:t0 + n][:, joints] = keyframes[k] * (1 - f) + keyframes[k + 1] * f
+        path = CubicSpline(np.linspace(0.0, 1.0, len(keyframes)), keyframes, axis=0)
+        h[t0:t0 + n][:, joints] = path(ramp_profile(full)[:n])
         return n
 
     def _walk(self, h, yaw, t, style, beat, rng):
