@@ -150,6 +150,8 @@ def turned_out_leg(sk: Skeleton, side: str, turnout: float, thigh: float, abduct
     lo, hi = LOWER[[i - ROOT_QPOS for i in free]], UPPER[[i - ROOT_QPOS for i in free]]
     x = least_squares(residual, np.clip(np.zeros(5), lo, hi), bounds=(lo, hi)).x
     hinges = np.array([x[0], x[1], x[2], knee_flex, x[3], x[4]])
+    if len(cache) >= 20000:  # long synthetic runs: keep the memory bounded (a solve costs a few milliseconds)
+        cache.clear()
     cache[key] = hinges
     return hinges.copy()
 
