@@ -97,13 +97,10 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default=None, help="write the views' scores and the summary here (JSON)")
     args = ap.parse_args(argv)
     from hdvr.commands.fit3d import prior_argument
-    from hdvr.fitting.prior import load_prior
-
     from hdvr.errors import HDVRError
 
-    prior = None if args.pose_prior is None else prior_argument(args.pose_prior)
-    try:
-        load_prior(prior)  # a missing or wrong prior stops here
+    try:  # a missing or wrong prior stops here
+        prior = None if args.pose_prior is None else prior_argument(args.pose_prior)
     except HDVRError as exc:
         print(f"bench_fit_views: {exc}", file=sys.stderr)
         return 2

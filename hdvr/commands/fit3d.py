@@ -55,10 +55,12 @@ def add_fit_arguments(p: argparse.ArgumentParser) -> None:
 
 def prior_argument(value: str) -> str:
     """``--pose-prior``: a shipped prior's name as it is, a file as an absolute path (chunk workers may run
-    elsewhere)."""
-    from hdvr.fitting.prior import NAMED_PRIORS
+    elsewhere), loaded once here so that a missing or wrong file stops the command with one line."""
+    from hdvr.fitting.prior import NAMED_PRIORS, load_prior
 
-    return value if value in NAMED_PRIORS else str(Path(value).resolve())
+    resolved = value if value in NAMED_PRIORS else str(Path(value).resolve())
+    load_prior(resolved)
+    return resolved
 
 
 def settings_from_args(args: argparse.Namespace, **extra):
@@ -92,10 +94,7 @@ def settings_from_args(args: argparse.Namespace, **extra):
     if getattr(args, "no_limb_depth", False):
         overrides["limb_depth"] = False
     if overrides.get("pose_prior_path") is not None:
-        from hdvr.fitting.prior import load_prior
-
         overrides["pose_prior_path"] = prior_argument(overrides["pose_prior_path"])
-        load_prior(overrides["pose_prior_path"])  # a missing or wrong file stops here, with one line
     overrides.update(extra)
     return paper_settings(**overrides) if getattr(args, "paper", False) else FitSettings(**overrides)
 

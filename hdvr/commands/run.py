@@ -42,10 +42,8 @@ def run(args) -> int:
     overrides = {"focal": args.focal} if args.focal else {}
     if args.pose_prior:
         from hdvr.commands.fit3d import prior_argument
-        from hdvr.fitting.prior import load_prior
 
-        overrides["pose_prior_path"] = prior_argument(args.pose_prior)
-        load_prior(overrides["pose_prior_path"])  # a missing or wrong file stops here, before the tracking
+        overrides["pose_prior_path"] = prior_argument(args.pose_prior)  # checked here, before the tracking
     settings = FitSettings(**overrides)
     result = analyse_video(args.video, args.out, detector=detector, **dancer_arguments(args),
                            detect_every=args.detect_every, fit_settings=settings,

@@ -78,8 +78,12 @@ def shipped_prior() -> PosePrior:
     return load_prior(None)
 
 
-@lru_cache(maxsize=4)
 def load_prior(path: str | None) -> PosePrior:
     """The prior named ``path`` (:data:`NAMED_PRIORS`; None: ``all``) or in the NPZ file ``path``, loaded once
-    per process and path."""
-    return PosePrior(NAMED_PRIORS.get("all" if path is None else path, path))
+    per process and file."""
+    return _load_prior_file(str(NAMED_PRIORS.get("all" if path is None else path, path)))
+
+
+@lru_cache(maxsize=4)
+def _load_prior_file(path: str) -> PosePrior:
+    return PosePrior(path)

@@ -114,11 +114,11 @@ def turned_out_leg(sk: Skeleton, side: str, turnout: float, thigh: float, abduct
     q0 = _rest_hinges(sk)  # the generator's rest pose and margins (LOWER, UPPER), not the model's
     G = leg_joints(side)
     free = [ROOT_QPOS + G[k] for k in ("hip_adduct", "hip_extend", "hip_rotate", "ankle_plantarflex", "ankle_invert")]
-    knee_flex = float(np.clip(REST[G["knee_flex"]] + 2 * thigh, LOWER[G["knee_flex"]], UPPER[G["knee_flex"]]))
-    q0[ROOT_QPOS + G["knee_flex"]] = knee_flex
     names = [f"{side}_{n}" for n in ("hip", "knee", "ankle", "big_toe", "small_toe", "heel")]
     ids = [BODY25_NAMES.index(n) for n in names]
-    rest = sk.keypoints(_rest_hinges(sk))[ids]
+    rest = sk.keypoints(q0)[ids]
+    knee_flex = float(np.clip(REST[G["knee_flex"]] + 2 * thigh, LOWER[G["knee_flex"]], UPPER[G["knee_flex"]]))
+    q0[ROOT_QPOS + G["knee_flex"]] = knee_flex
     hip = rest[0]
     l1, l2 = np.linalg.norm(rest[1] - rest[0]), np.linalg.norm(rest[2] - rest[1])
     out = 1.0 if side == "left" else -1.0  # +y is the dancer's left
@@ -502,7 +502,7 @@ class ChoreographyGenerator:
         path = np.stack([legs(phi * k / 8, opened) for k in range(9)])
         working = 1 if rng.random() < 0.5 else 2  # stance code of the leg that stays while the other slides out
         speed = rng.uniform(1.2, 2.0)
-        n = self._turn_out(h, allj, t, neutral, first, speed, L, R) if turnout > 0.02 else 0
+        n = self._turn_out(h, allj, t, neutral, first, speed, L, R) if turnout else 0
         slide = min(speed, TENDU_SPEED_RAD_S)  # the working foot slides about 1.6 m per radian of opening
         if opened:
             m = self._write_move(h, allj, t + n, first, second, slide)
@@ -516,7 +516,7 @@ class ChoreographyGenerator:
             m = self._write_move(h, allj, t + n, second, first, min(speed, TENDU_SPEED_RAD_S))
             self.stance[t + n:t + n + m] = working
             n += m
-        if turnout > 0.02:
+        if turnout:
             n += self._turn_out(h, allj, t + n, first, neutral, speed, L, R)
         return n
 
