@@ -55,3 +55,24 @@ def salsa_view(shared_data):
         return kp, gt
 
     return view
+
+
+@pytest.fixture
+def mocap_standin(tmp_path):
+    """``standin(frames)`` -> path of a ``--gt-npz`` file (as ``scripts/bench_lifter.py --write-gt-npz`` writes)
+    that holds two synthetic dancers as the takes '60_01' (rumba, a salsa take) and 'indian_04' (ballet), each
+    ``frames`` long (30 fps, world metres, z up): for the mocap benchmarks' tests without ../shared."""
+    import numpy as np
+
+    from hdvr.synth.choreography import ChoreographyGenerator
+
+    def standin(frames: int) -> Path:
+        gen = ChoreographyGenerator()
+        seconds = frames / 30.0 + 0.5
+        takes = {"60_01": gen.generate("rumba", seconds, np.random.default_rng(1)).keypoints,
+                 "indian_04": gen.generate("ballet", seconds, np.random.default_rng(2)).keypoints}
+        path = tmp_path / "gt.npz"
+        np.savez(path, **{k: v[:frames].astype(np.float32) for k, v in takes.items()})
+        return path
+
+    return standin

@@ -10,14 +10,8 @@ import numpy as np
 SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "bench_fit_views.py"
 
 
-def test_fits_views_per_style_and_compares_runs(tmp_path):
-    from hdvr.synth.choreography import ChoreographyGenerator
-
-    gen = ChoreographyGenerator()
-    takes = {"60_01": gen.generate("rumba", 1, np.random.default_rng(1)).keypoints,
-             "indian_04": gen.generate("ballet", 1, np.random.default_rng(2)).keypoints}
-    gt = tmp_path / "gt.npz"
-    np.savez(gt, **{k: v[:12].astype(np.float32) for k, v in takes.items()})
+def test_fits_views_per_style_and_compares_runs(tmp_path, mocap_standin):
+    gt = mocap_standin(12)
     out, again = tmp_path / "a.json", tmp_path / "b.json"
     base = [sys.executable, str(SCRIPT), "--gt-npz", str(gt), "--cameras-salsa", "1", "--cameras-indian", "1",
             "--workers", "1"]
