@@ -1357,3 +1357,47 @@ def test_a_corrected_dancer_restarts_seen_on_its_box_with_its_own_colours():
     assert off.hiding_dancer(0) is None
     with pytest.raises(IndexError):
         tracker.correct(frame, 2, elsewhere)
+
+
+def test_a_dancer_up_from_a_floor_move_narrows_its_wide_low_box(tmp_path):
+    """A dancer who started low and wide (a floor move) and stands up is detected standing: the detection lies
+    inside the box's columns but rises out of its top (the box 1.4 x lower: within ``max_height_change``), so it is
+    not inside the box's area, nor does it overlap it by IoU 0.4. With the containment counted in columns (``adapt_containment_columns``, session 45) the box narrows
+    towards the detection where the columns beside it are background; counted in area it keeps its floor width."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=1, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    x, y, w, h = (float(v) for v in truth.boxes[0][0])
+    floor = (x - 0.8 * w, y + 0.3 * h, 2.6 * w, 0.7 * h)  # wide and low, around where the dancer lay
+    standing = (x, y, w, h)
+    assert box_iou(floor, standing) < 0.4
+
+    def width_after(columns: bool) -> float:
+        tracker = MultiDancerTracker(frames[0], [floor], MultiTrackerConfig(adapt_containment_columns=columns))
+        for t in range(1, 8):
+            x, y, w, h = (float(v) for v in truth.boxes[t][0])
+            tracker.step(frames[t], [(x, y, w, h)])
+        return tracker.dancers[0].box[2]
+
+    assert width_after(columns=False) == pytest.approx(floor[2])
+    assert width_after(columns=True) < 0.75 * floor[2]
+
+
+def test_a_ratio_learned_after_the_start_is_not_set_by_one_short_detection(tmp_path):
+    """No detection on a dancer's start box: its box-to-detection ratio is learned from its first clear detections.
+    With ``late_ratio_samples`` 3 (an option, session 45) a first detection that leaves the legs out (three
+    quarters of the height) does not set it alone (the median of three): the box keeps the dancer's height; with 1
+    (the default) the box grows 1.3 x."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=10, specs=default_crossing_specs(num_figures=1, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    boxes = [tuple(float(v) for v in b[0]) for b in truth.boxes]
+
+    def height_after(samples: int) -> float:
+        tracker = MultiDancerTracker(frames[0], [boxes[0]], MultiTrackerConfig(late_ratio_samples=samples))
+        x, y, w, h = boxes[1]
+        tracker.step(frames[1], [(x, y, w, 0.75 * h)])  # the legs left out
+        for t in range(2, 10):
+            tracker.step(frames[t], [boxes[t]])
+        return tracker.dancers[0].box[3] / boxes[9][3]
+
+    assert height_after(1) > 1.2
+    assert height_after(3) == pytest.approx(1.0, abs=0.05)

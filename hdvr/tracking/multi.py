@@ -194,6 +194,10 @@ class MultiTrackerConfig:
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
     adapt_min_containment: float = 0.9  # ... or lies this much inside it (intersection / detection area): the
     # dancer got up from the floor, and its wide box holds the standing person
+    adapt_containment_columns: bool = True  # ... the containment counted in columns (of the detection's width, the
+    # part inside the box's columns), with at least half of its height within the box's rows: a dancer who got up
+    # from a floor move has a wide, low box that the standing detection sticks out of at the top (seed 2203 hip-hop
+    # quartet: a box 2.6 x the dancer's width for 90 frames; docs/tracking.md, session 45)
     adapt_max_foreground: float = 0.2  # ... and its columns beside the detection are background (at most this
     # fraction with a limb's worth of foreground: :meth:`_empty_around`)
     max_height_change: float = 1.6  # a detection this much taller or shorter than a dancer's box is not it
@@ -221,6 +225,13 @@ class MultiTrackerConfig:
     # The ground truth's height over YOLO11n-pose's for dancers seen whole: median 1.09, 99th percentile 1.26. hdvr
     # synth, 936 clips: 16 up, 2 down, failing 52 -> 51 (1506 hip-hop 0.890 -> 0.904, 310 flamenco 0.950 -> 1.000;
     # 711 ballet 0.967 -> 0.929); fresh seeds 2501-2512: 2 up, none down
+    late_ratio_samples: int = 1  # a ratio learned after the start frame (no detection on the start box then, or
+    # a stack) is the median of this many clear detections' ratios to the box the first one was taken against,
+    # taken within ``late_ratio_frames`` of it, so that a first detection that left the legs out does not set it
+    # alone (seed 2402 swing: 192 px against a 259 px box, the box 1.16 x too tall all clip). 1: the first sets it.
+    # 3 measured in session 45, not kept: 360 clips 4 up (2402 swing 0.883 -> 0.933), 3 down, failing 19 -> 18;
+    # 144 clips 2 up, 2 down (306 hip-hop 0.979 -> 0.910), mean 0.9780 -> 0.9774 (docs/benchmarks.md, session 45)
+    late_ratio_frames: int = 12
     start_ratio_alone: bool = True  # the initial box's ratio to the detector's is learned at the start only for a
     # dancer whose body core overlaps no other dancer's then (in a stack the detection on it may be the other's);
     # otherwise from its first detection while clear
@@ -453,6 +464,7 @@ class MultiDancerTracker(ReportedExtent):
             d.stored_histogram = hist
         # over others the ratio is learned again from a detection while clear (:meth:`_adapt_box`)
         d.size_ratio = None if others else self._ratio_to_detection(b, detections)
+        d.ratio_samples = []  # a ratio being learned was the uncorrected box's
 
     def _ratio_to_detection(self, box, detections) -> np.ndarray | None:
         """:meth:`_size_ratio` of ``box`` to the one of ``detections`` ((x, y, w, h) px) on it (IoU > 0.5, the
@@ -681,7 +693,7 @@ class MultiDancerTracker(ReportedExtent):
                     # just recovered, moving fast and changing shape (e.g. a flip): follow the detector
                     self._restart(d, frame, matches[0], d.confidence)
                 elif len(matches) == 1 and (box_iou(d.box, matches[0]) > c.adapt_min_iou or
-                                            (box_inside(matches[0], d.box) > c.adapt_min_containment
+                                            (self._containment(matches[0], d.box) > c.adapt_min_containment
                                              and self._empty_around(frame, d, matches[0]))) and \
                         self._single_person(d, matches[0]):
                     self._adapt_box(d, frame, matches[0])
@@ -1024,6 +1036,21 @@ class MultiDancerTracker(ReportedExtent):
         x, y, w, h = d.box
         d.box = (x, y + h - height, w, height)
 
+    def _containment(self, detection, box) -> float:
+        """How much of ``detection`` lies inside dancer box ``box`` (both x, y, w, h px), in [0, 1]: with
+        ``adapt_containment_columns`` the fraction of its width inside the box's columns, 0 unless at least half of
+        its height lies within the box's rows (a standing person rising out of the low box of a floor move); else
+        the fraction of its area inside the box."""
+        if not self.config.adapt_containment_columns:
+            return box_inside(detection, box)
+        x, y, w, h = (float(v) for v in detection)
+        if w <= 0 or h <= 0:
+            return 0.0
+        rows = min(y + h, box[1] + box[3]) - max(y, box[1])
+        if rows < 0.5 * h:
+            return 0.0
+        return max(0.0, min(x + w, box[0] + box[2]) - max(x, box[0])) / w
+
     def _empty_around(self, frame, d: DancerTrack, detection) -> bool:
         """Whether the columns of dancer ``d``'s box beside ``detection`` (x, y, w, h px) are background (fewer than
         ``adapt_max_foreground`` of them hold foreground: :meth:`_foreground_columns`). A box left wide after a
@@ -1082,9 +1109,9 @@ class MultiDancerTracker(ReportedExtent):
         detection = self._feet_hidden(d, detection)
         centre = np.asarray(d.tracker.center, float)
         detected = np.array(detection[2:], float)
-        if d.size_ratio is None and retrack:  # keep the convention of the initial box (e.g. a margin around the
-            # body), learned from a clear dancer's detection
-            d.size_ratio = self._size_ratio(np.array(d.box[2:]), detected)
+        if retrack and (d.size_ratio is None or d.ratio_samples):  # keep the convention of the initial box (e.g. a
+            # margin around the body), learned from a clear dancer's detections
+            self._learn_late_ratio(d, detected)
         ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
         size = (1 - a) * np.array(d.box[2:]) + a * ratio * detected
         d.offset = np.clip((1 - a) * d.offset + a * (box_centre(detection) - centre), -c.max_box_offset * size,
@@ -1093,6 +1120,22 @@ class MultiDancerTracker(ReportedExtent):
         if retrack and abs(np.log(size[1] / d.tracker.base_size[1])) > np.log(c.retrack_scale):
             d.offset = np.zeros(2)
             d.tracker.init(frame, self._core(d.box))
+
+    def _learn_late_ratio(self, d: DancerTrack, detected: np.ndarray) -> None:
+        """Dancer ``d``'s ratio of box to detection (``detected``: its (w, h) px), learned after its start frame:
+        the first clear detection fixes the reference box (the box then, as given at the start or correction), and
+        each further one up to ``late_ratio_samples`` within ``late_ratio_frames`` of it adds its ratio to that
+        box; the ratio is the median of those taken (:meth:`_size_ratio` limits)."""
+        c = self.config
+        if d.size_ratio is None:
+            d.ratio_box, d.ratio_since, d.ratio_samples = np.array(d.box[2:], float), self.frame_index, []
+        elif self.frame_index - d.ratio_since > c.late_ratio_frames:
+            d.ratio_samples = []  # the dancer may have changed its posture since: the ratio stays as learned
+            return
+        d.ratio_samples.append(self._size_ratio(d.ratio_box, detected))
+        d.size_ratio = np.median(np.array(d.ratio_samples), axis=0)
+        if len(d.ratio_samples) >= c.late_ratio_samples:
+            d.ratio_samples = []
 
     def _feet_hidden(self, d: DancerTrack, detection):
         """``detection`` (x, y, w, h px) of dancer ``d``, with its bottom moved down to that of ``d``'s box when it

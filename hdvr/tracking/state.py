@@ -37,6 +37,10 @@ class DancerTrack:
     offset: np.ndarray = field(default_factory=lambda: np.zeros(2))  # box centre - tracker centre, px
     recovering_until: int = -1  # frame until which a dancer recovered after being long lost follows detections
     size_ratio: np.ndarray | None = None  # (w, h) of the dancer's box / of the detector's box on it
+    ratio_samples: list = field(default_factory=list)  # ratios taken so far while the ratio is learned after the
+    # start frame (:meth:`hdvr.tracking.multi.MultiDancerTracker._learn_late_ratio`); empty once it is learned
+    ratio_box: np.ndarray | None = None  # (w, h) px of the box those ratios are taken against
+    ratio_since: int = -1  # frame of the first of them
     start_frame: int = 0  # frame in which tracking of this dancer began
     exit_side: str | None = None  # "left" or "right": the frame edge the dancer left by (None: another or none)
     growth: np.ndarray = field(default_factory=lambda: np.zeros(4))  # px the reported box extends beyond ``box``
