@@ -1401,3 +1401,25 @@ def test_a_ratio_learned_after_the_start_is_not_set_by_one_short_detection(tmp_p
 
     assert height_after(1) > 1.2
     assert height_after(3) == pytest.approx(1.0, abs=0.05)
+
+
+def test_width_margin_adds_the_start_margin_instead_of_scaling_spread_arms(tmp_path):
+    """A start box 1.4 x as wide as the standing detection on it (its convention: a margin around the body). When
+    the dancer spreads its arms the detection doubles in width. Times the ratio (the default) the box becomes 1.4 x
+    that; with ``width_margin`` (an option, session 45) it is that width plus the
+    start margin (0.4 x the standing detection's width, scaled by the detection's height), closer to the dancer's;
+    heights scale by the ratio either way."""
+    render_clip(tmp_path / "clip.mp4", frames=1, specs=default_crossing_specs(num_figures=1, seed=0))
+    frame = next(iter(VideoReader(tmp_path / "clip.mp4")))
+    start, standing = (100.0, 100.0, 84.0, 240.0), (112.0, 110.0, 60.0, 220.0)
+
+    def size_for(detected, margin: bool):
+        tracker = MultiDancerTracker(frame, [], MultiTrackerConfig(width_margin=margin))
+        tracker.add_dancer(frame, start, detections=[standing])
+        return tracker._box_size(tracker.dancers[0], detected)
+
+    assert size_for((60.0, 220.0), False) == pytest.approx([84.0, 240.0])
+    assert size_for((60.0, 220.0), True) == pytest.approx([84.0, 240.0])  # the start detection: the start box
+    spread = (120.0, 220.0)
+    assert size_for(spread, False) == pytest.approx([168.0, 240.0])
+    assert size_for(spread, True) == pytest.approx([144.0, 240.0])

@@ -105,8 +105,7 @@ class ReportedExtent:
                     target[0], target[2] = max(target[0], left), max(target[2], right)
             pose = poses[i] if i < len(poses) else None
             if pose is not None and self._pose_extends(d, pose, margins[i], poses):
-                ratio = d.size_ratio if d.size_ratio is not None else np.ones(2)
-                det = box_at(box_centre(pose.box), (0.0, 0.0, *(np.asarray(pose.box[2:], float) * ratio)))
+                det = box_at(box_centre(pose.box), (0.0, 0.0, *self._box_size(d, pose.box[2:])))
                 x, y, w, h = d.box
                 reach = np.maximum(0.0, [x - det[0], y - det[1], det[0] + det[2] - x - w, det[1] + det[3] - y - h])
                 strips = [(det[0], det[1], reach[0], det[3]), (det[0], det[1], det[2], reach[1]),
