@@ -1405,8 +1405,8 @@ def test_a_ratio_learned_after_the_start_is_not_set_by_one_short_detection(tmp_p
 
 def test_width_margin_adds_the_start_margin_instead_of_scaling_spread_arms(tmp_path):
     """A start box 1.4 x as wide as the standing detection on it (its convention: a margin around the body). When
-    the dancer spreads its arms the detection doubles in width. Times the ratio (the default) the box becomes 1.4 x
-    that; with ``width_margin`` (an option, session 45) it is that width plus the
+    the dancer spreads its arms the detection doubles in width. Times the ratio (``width_margin`` off, the rule
+    before session 45) the box becomes 1.4 x that; with ``width_margin`` (the default) it is that width plus the
     start margin (0.4 x the standing detection's width, scaled by the detection's height), closer to the dancer's;
     heights scale by the ratio either way."""
     render_clip(tmp_path / "clip.mp4", frames=1, specs=default_crossing_specs(num_figures=1, seed=0))

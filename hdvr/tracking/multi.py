@@ -232,14 +232,13 @@ class MultiTrackerConfig:
     # 3 measured in session 45, not kept: 360 clips 4 up (2402 swing 0.883 -> 0.933), 3 down, failing 19 -> 18;
     # 144 clips 2 up, 2 down (306 hip-hop 0.979 -> 0.910), mean 0.9780 -> 0.9774 (docs/benchmarks.md, session 45)
     late_ratio_frames: int = 12
-    width_margin: bool = False  # the box's width follows its detections plus a margin (the start box's width
-    # beyond its detection's, in detection heights), not times a ratio: spread arms widen a detection by a limb,
-    # and a ratio of 1.4 learned from a narrow standing detection made them 1.4 x as wide (seed 2402 swing 0.883 ->
-    # 0.979). hdvr synth, session 44's generator (measured before the edge exception below): 360 clips 0.9836 ->
-    # 0.9856, failing 19 -> 17 (50 up, 10 down); 144 clips 0.9780 -> 0.9785, 11 failing both (17 up, 7 down). Off:
-    # a dancer at the frame's edge missed by the detector is then marked out while still there (test
-    # test_dancer_at_the_edge_missed_by_the_detector_is_not_out fails even with a detection cut by the edge scaled
-    # by the ratio, as it is now); docs/benchmarks.md, session 45
+    width_margin: bool = True  # the box's width follows its detections plus a margin (the start box's width
+    # beyond the detection on it in its start frame, in detection heights), not times a ratio: spread arms widen a
+    # detection by a limb, and a ratio of 1.4 learned from a narrow standing detection made them 1.4 x as wide. Only
+    # from a detection in the start frame (a ratio learned later, from a moving dancer, makes a poor margin), and not
+    # for a detection cut by the frame's edge. hdvr synth, session 44's generator: 360 clips 0.9836 -> 0.9852,
+    # failing 19 -> 17, none broken (44 up, 9 down); 144 clips 0.9780 -> 0.9786, 11 failing both (14 up, 5 down);
+    # docs/benchmarks.md, session 45
     start_ratio_alone: bool = True  # the initial box's ratio to the detector's is learned at the start only for a
     # dancer whose body core overlaps no other dancer's then (in a stack the detection on it may be the other's);
     # otherwise from its first detection while clear
@@ -1150,7 +1149,7 @@ class MultiDancerTracker(ReportedExtent):
         c = self.config
         if d.size_ratio is None:
             d.ratio_box, d.ratio_since, d.ratio_samples = np.array(d.box[2:], float), self.frame_index, []
-            d.ratio_aspect = float(detected[0] / detected[1])
+            d.ratio_aspect = None  # a margin is taken only from a detection in the start box's own frame
         elif self.frame_index - d.ratio_since > c.late_ratio_frames:
             d.ratio_samples = []  # the dancer may have changed its posture since: the ratio stays as learned
             return
