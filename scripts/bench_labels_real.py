@@ -16,8 +16,7 @@ carries the same label; one label per part and frame, so this is the part's micr
 frame agrees when the fit gives its part the mocap's label at most 0.2 s earlier or later) and per-part macro F1
 (the F1 of each label the mocap shows, averaged), and the same for a "chance" baseline that gives every frame each
 part's most frequent mocap label. ``--figure``: agreement per part and style as a bar chart (a black mark: within
-0.2 s); ``--score-figure``:
-the two scores (mocap above, fit below) of one view.
+0.2 s); ``--score-figure``: the two scores (mocap above, fit below) of one view.
 
     python3 scripts/bench_labels_real.py --fits-cache /tmp/label_fits.npz --out labels_real.json \\
         --figure docs/img/labels_real.png --score-figure docs/img/labels_real_score.png
@@ -136,12 +135,16 @@ def label_ids(keypoints: np.ndarray, smoothing_s: float | None) -> np.ndarray:
     return MovementLabeller(smoothing_s=smoothing_s).label(keypoints, FPS, (0.0, 0.0, 1.0)).ids
 
 
-def score_views(gt: dict, views: list[dict], smoothing_s: float) -> dict:
-    """{style: {views, frames, fit: agreement(...), majority: agreement(...)}} over the views' frames pooled."""
+def reference_labels(gt: dict, views: list[dict]) -> list[np.ndarray]:
+    """Per view, the labels (T, 16) of the mocap's own keypoints over the fitted frames (the labeller's default)."""
+    return [label_ids(gt[v["name"]][:len(v["fit_world"])], None) for v in views]
+
+
+def score_views(views: list[dict], references: list[np.ndarray], smoothing_s: float) -> dict:
+    """{style: {views, frames, fit: agreement(...), majority: agreement(...)}} over the views' frames pooled;
+    ``references``: :func:`reference_labels` of the views."""
     by_style: dict[str, tuple[list, list, list]] = {}
-    for v in views:
-        world = gt[v["name"]][:len(v["fit_world"])]
-        ref = label_ids(world, None)
+    for v, ref in zip(views, references):
         fit = label_ids(v["fit_world"], smoothing_s)
         refs, fits, majors = by_style.setdefault(style_of(v["name"]), ([], [], []))
         refs.append(ref)
@@ -176,12 +179,14 @@ def agreement_figure(path: Path, scores: dict, smoothing_s: float) -> None:
         major = [scores[style]["majority"]["per_part_agreement"][p] for p in parts]
         strong, pale = colours.get(style, ("#555555", "#cccccc"))
         within = [scores[style]["fit"]["per_part_agreement_within"][p] for p in parts]
-        ax.bar(x + (2 * k) * width - 0.4 + width / 2, fit, width, color=strong,
-               label=f"{style}: fit ({scores[style]['views']} views, mean {scores[style]['fit']['mean_agreement']:.2f}; "
-                     f"within {TOLERANCE_S:g} s {scores[style]['fit']['mean_agreement_within']:.2f})")
-        ax.scatter(x + (2 * k) * width - 0.4 + width / 2, within, marker="_", s=60, color="black", zorder=3,
+        fit_x = x + (2 * k) * width - 0.4 + width / 2
+        summary = scores[style]["fit"]
+        ax.bar(fit_x, fit, width, color=strong,
+               label=f"{style}: fit ({scores[style]['views']} views, mean {summary['mean_agreement']:.2f}; "
+                     f"within {TOLERANCE_S:g} s {summary['mean_agreement_within']:.2f})")
+        ax.scatter(fit_x, within, marker="_", s=60, color="black", zorder=3,
                    label=f"fit, the label within {TOLERANCE_S:g} s" if k == 0 else None)
-        ax.bar(x + (2 * k + 1) * width - 0.4 + width / 2, major, width, color=pale,
+        ax.bar(fit_x + width, major, width, color=pale,
                label=f"{style}: most frequent label (mean {scores[style]['majority']['mean_agreement']:.2f})")
     ax.set_xticks(x, [p.replace("_", " ") for p in parts], rotation=40, ha="right", fontsize=8)
     ax.set_ylim(0, 1)
@@ -276,8 +281,9 @@ def main(argv=None) -> int:
         if cache:
             write_cache(cache, key, views)
     report = {"noise_px": args.noise_px, "views": [[v["name"], v["camera"]] for v in views], "by_smoothing": {}}
+    references = reference_labels(gt, views)  # the same for every smoothing of the fit
     for s in smoothings:
-        scores = score_views(gt, views, s)
+        scores = score_views(views, references, s)
         report["by_smoothing"][f"{s:g}"] = scores
         for style, sc in scores.items():
             print(f"smoothing {s:g} s, {style} ({sc['views']} views, {sc['frames']} frames): agreement "

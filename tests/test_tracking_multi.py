@@ -1362,8 +1362,9 @@ def test_a_corrected_dancer_restarts_seen_on_its_box_with_its_own_colours():
 def test_a_dancer_up_from_a_floor_move_narrows_its_wide_low_box(tmp_path):
     """A dancer who started low and wide (a floor move) and stands up is detected standing: the detection lies
     inside the box's columns but rises out of its top (the box 1.4 x lower: within ``max_height_change``), so it is
-    not inside the box's area, nor does it overlap it by IoU 0.4. With the containment counted in columns (``adapt_containment_columns``, session 45) the box narrows
-    towards the detection where the columns beside it are background; counted in area it keeps its floor width."""
+    not inside the box's area, nor does it overlap it by IoU 0.4. With the containment counted in columns
+    (``adapt_containment_columns``, session 45) the box narrows towards the detection where the columns beside it
+    are background; counted in area it keeps its floor width."""
     truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=1, seed=0))
     frames = list(VideoReader(tmp_path / "clip.mp4"))
     x, y, w, h = (float(v) for v in truth.boxes[0][0])

@@ -1133,7 +1133,8 @@ class MultiDancerTracker(ReportedExtent):
         if retrack and (d.size_ratio is None or d.ratio_samples):  # keep the convention of the initial box (e.g. a
             # margin around the body), learned from a clear dancer's detections
             self._learn_late_ratio(d, detected)
-        size = (1 - a) * np.array(d.box[2:]) + a * self._box_size(d, detected, self._cut_by_edge([detection]) is not None)
+        cut = self._cut_by_edge([detection]) is not None
+        size = (1 - a) * np.array(d.box[2:]) + a * self._box_size(d, detected, cut)
         d.offset = np.clip((1 - a) * d.offset + a * (box_centre(detection) - centre), -c.max_box_offset * size,
                            c.max_box_offset * size)
         d.box = box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))

@@ -40,7 +40,8 @@ class DancerTrack:
     ratio_samples: list = field(default_factory=list)  # ratios taken so far while the ratio is learned after the
     # start frame (:meth:`hdvr.tracking.multi.MultiDancerTracker._learn_late_ratio`); empty once it is learned
     ratio_box: np.ndarray | None = None  # (w, h) px of the box those ratios are taken against
-    ratio_aspect: float | None = None  # width over height of the detection the ratio was first learned from
+    ratio_aspect: float | None = None  # width over height of the detection in the start (or correction) frame that
+    # ``size_ratio`` was learned from; None when it was learned later (no width margin then: ``width_margin``)
     ratio_since: int = -1  # frame of the first of them
     start_frame: int = 0  # frame in which tracking of this dancer began
     exit_side: str | None = None  # "left" or "right": the frame edge the dancer left by (None: another or none)
