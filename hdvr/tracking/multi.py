@@ -189,6 +189,14 @@ class MultiTrackerConfig:
     # moves on (seed 612 tango 1.000 -> 0.667; docs/tracking.md, session 35)
     start_seen_margin: float = 0.2
     start_seen_aspect: float = 1.5  # a wider box is a box around the dancer and someone beside (seed 309 hip-hop)
+    orphan_persist: int = 3  # with N > 0, an occluded dancer (not one waiting since its start) that neither
+    # re-identification nor relocation finds takes a *stray person*: a sure detection that no tracked dancer takes,
+    # clear of every tracked dancer's body core and within ``reid_height_change`` of the dancer's box height, that
+    # lay there (IoU >= 0.5 with the one before) on N detector frames in a row, if its colours match the dancer's
+    # memory at least ``reid_similarity`` and by ``reid_margin`` better than any other occluded dancer's; wherever
+    # it is (:meth:`MultiDancerTracker._take_stray`). A dancer that came out from behind another on the side away
+    # from its stored motion stayed occluded in its old place while the detector found it clear of everyone for
+    # 60 frames (seed 2110 flamenco). 0: off
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
@@ -390,6 +398,7 @@ class MultiDancerTracker(ReportedExtent):
         self.detector_frame, self.previous_detector_frame = -1, -1
         self.dancers: list[DancerTrack] = []
         self._foreground_cache = None  # :meth:`_foreground`
+        self.strays: list[tuple[tuple, int]] = []  # :meth:`_stray_people`: (box px, detector frames in a row)
         for b in boxes:
             self.add_dancer(frame, b)
 
@@ -780,6 +789,8 @@ class MultiDancerTracker(ReportedExtent):
             if t >= d.occlusion_end or clear_now:
                 self._relocate(d, frame, detections, force=t - d.occluded_since >= c.max_occlusion_frames,
                                extra=[own])
+        if detections is not None and c.orphan_persist:
+            self._take_stray(frame, detections)
         # 5. dancers out of the frame: re-identified when they come back
         self._reenter(frame, detections)
         self._reenter_at_edge(frame)
@@ -1694,6 +1705,39 @@ class MultiDancerTracker(ReportedExtent):
             if holder is not None and holder.status == TRACKED:
                 holder.size_ratio = None  # perhaps learned from that detection
                 self._occlude(holder, [d])
+
+    def _stray_people(self, detections) -> list[tuple[float, float, float, float]]:
+        """Sure ``detections`` (x, y, w, h px) of this detector frame that no tracked dancer takes
+        (:meth:`_claims`) and whose body core overlaps no tracked dancer's (``overlap_threshold``): people the
+        tracking accounts for nowhere. Each continues the chain of a stray person of the detector frame before on
+        which it lies (IoU >= 0.5; ``strays`` keeps each one's count of detector frames in a row). Returns those
+        seen on ``orphan_persist`` detector frames in a row, this one included."""
+        c = self.config
+        dets = [tuple(float(v) for v in det) for det in detections]
+        claimed = set(self._claims(dets).values())
+        tracked = [o for o in self.dancers if o.status == TRACKED]
+        stray = [det for k, det in enumerate(dets) if k not in claimed
+                 and all(self._bodies_overlap(det, o.box) <= c.overlap_threshold for o in tracked)]
+        before = self.strays
+        self.strays = [(det, 1 + max([n for box, n in before if box_iou(box, det) >= 0.5], default=0))
+                       for det in stray]
+        return [det for det, n in self.strays if n >= c.orphan_persist]
+
+    def _take_stray(self, frame, detections) -> None:
+        """Occluded dancers (not those waiting since their start, ``hidden_behind``) take stray people
+        (:meth:`_stray_people`) of about their height (:meth:`_height_fits`) wherever these are, matched by
+        :meth:`_histogram_matches` against the other occluded dancers' memories (``orphan_persist``). Where the
+        dancer came out from behind the others is not always where its stored motion led: a person the tracking
+        accounts for nowhere, seen on several detector frames, and looking like the one dancer it has lost, is
+        that dancer."""
+        strays = self._stray_people(detections)
+        occluded = [d for d in self.dancers if d.status == OCCLUDED and d.hidden_behind is None]
+        if not strays or not occluded:
+            return
+        candidates = [(d, [det for det in strays if self._height_fits(d, det)]) for d in occluded]
+        for d, box, score in self._histogram_matches(frame, candidates, occluded):
+            self._take(d, box, score, seen_part=True)
+            self.strays = [(det, n) for det, n in self.strays if det != box]
 
     def _handed_over(self, frame, occluded: list[DancerTrack], dets: list, claims: dict[int, int]) -> dict:
         """Detections (x, y, w, h px) that the tracked dancers in ``claims`` (dancer id -> index into ``dets``)
