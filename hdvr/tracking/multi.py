@@ -197,6 +197,16 @@ class MultiTrackerConfig:
     # it is (:meth:`MultiDancerTracker._take_stray`). A dancer that came out from behind another on the side away
     # from its stored motion stayed occluded in its old place while the detector found it clear of everyone for
     # 60 frames (seed 2110 flamenco). 0: off
+    front_of_waiting_clear: bool = False  # a dancer whose body core overlaps only dancers waiting straight behind it
+    # since their start (``hidden_start_overlap``) counts as clear: its memory is stored, and its box's height (not
+    # its width: the detection may hold their limbs beside it) adapts to the one detection on it
+    waiting_follows_front: bool = False  # an occluded dancer still waiting behind the dancer it started behind
+    # moves and scales with that dancer's box (not with a stored velocity, which it never had)
+    stray_waiting: bool = False  # ... and a dancer waiting since its start takes the nearest stray person beside the
+    # others (core overlap below ``emerge_beside_overlap``) that matches no memory of a dancer not waiting so.
+    # Measured in session 46, not kept: 504 synthetic clips, failing 27 -> 29 (2407 flamenco 0.883 -> 0.933, but
+    # 2507 flamenco 0.956 -> 0.719 with 2 switches, 2403 swing 1.000 -> 0.829, 2209 hip-hop 0.983 -> 0.865): with
+    # two dancers waiting in a stack of three, the nearest took the person the other one was (seed 2507, frame 9)
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
@@ -233,12 +243,15 @@ class MultiTrackerConfig:
     # The ground truth's height over YOLO11n-pose's for dancers seen whole: median 1.09, 99th percentile 1.26. hdvr
     # synth, 936 clips: 16 up, 2 down, failing 52 -> 51 (1506 hip-hop 0.890 -> 0.904, 310 flamenco 0.950 -> 1.000;
     # 711 ballet 0.967 -> 0.929); fresh seeds 2501-2512: 2 up, none down
-    late_ratio_samples: int = 1  # a ratio learned after the start frame (no detection on the start box then, or
-    # a stack) is the median of this many clear detections' ratios to the box the first one was taken against,
-    # taken within ``late_ratio_frames`` of it, so that a first detection that left the legs out does not set it
-    # alone (seed 2402 swing: 192 px against a 259 px box, the box 1.16 x too tall all clip). 1: the first sets it.
-    # 3 measured in session 45, not kept: 360 clips 4 up (2402 swing 0.883 -> 0.933), 3 down, failing 19 -> 18;
-    # 144 clips 2 up, 2 down (306 hip-hop 0.979 -> 0.910), mean 0.9780 -> 0.9774 (docs/benchmarks.md, session 45)
+    late_ratio_samples: int = 0  # with N > 0, a ratio learned after the start frame (no detection on the start
+    # box then, or a stack) is the median of N clear detections' ratios to the box the first one was taken against,
+    # taken within ``late_ratio_frames`` of it; 0: no ratio is learned after the start frame, and the box of such a
+    # dancer follows its detections as they are (the detector's convention). A moving dancer's first detection
+    # makes a poor ratio: one that left the legs out kept the box up to 1.3 x too tall all clip (seed 2402 swing:
+    # 192 px against a 259 px box, 1.16 x the dancer's height). Session 46, 1 -> 0: 504 synthetic clips failing
+    # 27 -> 25, mean IDF1 0.9836 -> 0.9839, 20 up, 13 down (2402 swing 0.887 -> 0.996, 309 ballet 0.829 -> 0.971,
+    # 2412 hip-hop loses its switch; 2308 swing 0.954 -> 0.883, three more swing clips 1.000 -> 0.93-0.95). 3 in
+    # session 45: 360 clips 4 up, 3 down; 144 clips 2 up, 2 down (docs/benchmarks.md, sessions 45 and 46)
     late_ratio_frames: int = 12
     width_margin: bool = True  # the box's width follows its detections plus a margin (the start box's width
     # beyond the detection on it in its start frame, in detection heights), not times a ratio: spread arms widen a
@@ -399,6 +412,7 @@ class MultiDancerTracker(ReportedExtent):
         self.dancers: list[DancerTrack] = []
         self._foreground_cache = None  # :meth:`_foreground`
         self.strays: list[tuple[tuple, int]] = []  # :meth:`_stray_people`: (box px, detector frames in a row)
+        self.strays_beside: list[tuple[tuple, int]] = []  # ... beside the dancers seen (``stray_waiting``)
         for b in boxes:
             self.add_dancer(frame, b)
 
@@ -707,6 +721,11 @@ class MultiDancerTracker(ReportedExtent):
             if d.status != TRACKED:
                 continue
             overlapping = self._overlapping(i, self._boxes_now(self.dancers))
+            fronting = False
+            if c.front_of_waiting_clear:  # dancers waiting hidden behind it since their start show nothing of theirs
+                alone = [j for j in overlapping if not (self.dancers[j].hidden_behind == d.dancer_id and
+                         self._straight_in_front(d, self.dancers[j], c.hidden_start_overlap))]
+                fronting, overlapping = len(alone) < len(overlapping), alone
             if not overlapping and detections is not None:
                 def on_box(det, box=d.box) -> bool:
                     return box_overlap(box, det) > 0.5 and box_iou(box, det) > 0.2
@@ -726,7 +745,10 @@ class MultiDancerTracker(ReportedExtent):
                                             (self._containment(matches[0], d.box) > c.adapt_min_containment
                                              and self._empty_around(frame, d, matches[0]))) and \
                         self._single_person(d, matches[0]):
-                    self._adapt_box(d, frame, matches[0])
+                    if fronting:  # its detection may hold limbs of the dancers behind it beside it: height only
+                        self._adapt_height(d, matches[0])
+                    else:
+                        self._adapt_box(d, frame, matches[0])
                     d.adapted_at = t
                 elif c.adapt_beside_partner and len(matches) == 1 and \
                         box_iou(d.box, matches[0]) > c.adapt_min_iou and \
@@ -773,6 +795,14 @@ class MultiDancerTracker(ReportedExtent):
         for d in occluded:
             # the dancer's own tracker keeps running without learning: where it ends up is one more candidate
             own_boxes.append(box_at(np.asarray(d.tracker.update(frame, learn=False).center) + d.offset, d.box))
+            front = self.dancers[d.hidden_behind] if d.hidden_behind is not None else None
+            if c.waiting_follows_front and front is not None and front.status == TRACKED:
+                # still behind the dancer it started behind: it moves and scales with that dancer's box
+                before = prev_boxes[front.dancer_id]
+                scale = front.box[3] / before[3]
+                d.box = box_at(np.asarray(box_centre(d.box)) + box_centre(front.box) - box_centre(before),
+                               (0.0, 0.0, d.box[2] * scale, d.box[3] * scale))
+                continue
             predicted = self._predicted_box(d, t)
             if c.hold_empty_prediction and self._clear_of_others(d, predicted) and \
                     not self._shows_someone(frame, d, [predicted])[0]:
@@ -1026,7 +1056,9 @@ class MultiDancerTracker(ReportedExtent):
         stature; the detector sometimes returns a box across the whole frame)."""
         c = self.config
         return self._person_sized(d, detection, max_height_change) and \
-            all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold for o in self.dancers if o is not d)
+            all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold for o in self.dancers if o is not d
+                and not (c.front_of_waiting_clear and o.hidden_behind == d.dancer_id
+                         and self._straight_in_front(d, o, c.hidden_start_overlap)))
 
     def _person_sized(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
         """Whether ``detection`` (x, y, w, h px) has the size of dancer ``d`` alone: its height within
@@ -1141,8 +1173,9 @@ class MultiDancerTracker(ReportedExtent):
         detection = self._feet_hidden(d, detection)
         centre = np.asarray(d.tracker.center, float)
         detected = np.array(detection[2:], float)
-        if retrack and (d.size_ratio is None or d.ratio_samples):  # keep the convention of the initial box (e.g. a
-            # margin around the body), learned from a clear dancer's detections
+        # keep the convention of the initial box (e.g. a margin around the body), learned from a clear dancer's
+        # detections (``late_ratio_samples`` 0: only from a detection in the start frame)
+        if retrack and c.late_ratio_samples and (d.size_ratio is None or d.ratio_samples):
             self._learn_late_ratio(d, detected)
         cut = self._cut_by_edge([detection]) is not None
         size = (1 - a) * np.array(d.box[2:]) + a * self._box_size(d, detected, cut)
@@ -1706,22 +1739,34 @@ class MultiDancerTracker(ReportedExtent):
                 holder.size_ratio = None  # perhaps learned from that detection
                 self._occlude(holder, [d])
 
-    def _stray_people(self, detections) -> list[tuple[float, float, float, float]]:
+    def _stray_people(self, detections, beside: bool = False) -> list[tuple[float, float, float, float]]:
         """Sure ``detections`` (x, y, w, h px) of this detector frame that no tracked dancer takes
         (:meth:`_claims`) and whose body core overlaps no tracked dancer's (``overlap_threshold``): people the
         tracking accounts for nowhere. Each continues the chain of a stray person of the detector frame before on
         which it lies (IoU >= 0.5; ``strays`` keeps each one's count of detector frames in a row). Returns those
-        seen on ``orphan_persist`` detector frames in a row, this one included."""
+        seen on ``orphan_persist`` detector frames in a row, this one included. ``beside``: people beside the
+        dancers seen rather than clear of them, for the dancers waiting since their start: the tracked dancers not
+        waiting so take detections in one assignment, and a core may overlap theirs by less than
+        ``emerge_beside_overlap`` (chains kept apart, in ``strays_beside``)."""
         c = self.config
         dets = [tuple(float(v) for v in det) for det in detections]
-        claimed = set(self._claims(dets).values())
-        tracked = [o for o in self.dancers if o.status == TRACKED]
-        stray = [det for k, det in enumerate(dets) if k not in claimed
-                 and all(self._bodies_overlap(det, o.box) <= c.overlap_threshold for o in tracked)]
-        before = self.strays
-        self.strays = [(det, 1 + max([n for box, n in before if box_iou(box, det) >= 0.5], default=0))
-                       for det in stray]
-        return [det for det, n in self.strays if n >= c.orphan_persist]
+        if beside:
+            tracked = [o for o in self.dancers if o.status == TRACKED and o.hidden_behind is None]
+            claimed = {k for _, k in self._fit_assignment([o.box for o in tracked], dets)[1]} if tracked else set()
+            stray = [det for k, det in enumerate(dets) if k not in claimed
+                     and all(self._bodies_overlap(det, o.box) < c.emerge_beside_overlap for o in tracked)]
+        else:
+            tracked = [o for o in self.dancers if o.status == TRACKED]
+            claimed = set(self._claims(dets).values())
+            stray = [det for k, det in enumerate(dets) if k not in claimed
+                     and all(self._bodies_overlap(det, o.box) <= c.overlap_threshold for o in tracked)]
+        before = self.strays_beside if beside else self.strays
+        chains = [(det, 1 + max([n for box, n in before if box_iou(box, det) >= 0.5], default=0)) for det in stray]
+        if beside:
+            self.strays_beside = chains
+        else:
+            self.strays = chains
+        return [det for det, n in chains if n >= c.orphan_persist]
 
     def _take_stray(self, frame, detections) -> None:
         """Occluded dancers (not those waiting since their start, ``hidden_behind``) take stray people
@@ -1729,15 +1774,38 @@ class MultiDancerTracker(ReportedExtent):
         :meth:`_histogram_matches` against the other occluded dancers' memories (``orphan_persist``). Where the
         dancer came out from behind the others is not always where its stored motion led: a person the tracking
         accounts for nowhere, seen on several detector frames, and looking like the one dancer it has lost, is
-        that dancer."""
+        that dancer. With ``stray_waiting``, a dancer waiting since its start takes the nearest stray person beside
+        the others (``beside``) whose colours match no memory of a dancer not waiting so (``reid_similarity``),
+        within ``max_height_change`` of its box height and at most ``emerge_max_aspect`` x as wide for its height:
+        it knows no colours of its own, so it is found by elimination."""
+        c = self.config
         strays = self._stray_people(detections)
         occluded = [d for d in self.dancers if d.status == OCCLUDED and d.hidden_behind is None]
-        if not strays or not occluded:
+        if strays and occluded:
+            candidates = [(d, [det for det in strays if self._height_fits(d, det)]) for d in occluded]
+            for d, box, score in self._histogram_matches(frame, candidates, occluded):
+                self._take(d, box, score, seen_part=True)
+                self.strays = [(det, n) for det, n in self.strays if det != box]
+        waiting = self.waiting()
+        if not c.stray_waiting or not waiting:
+            self.strays_beside = []
             return
-        candidates = [(d, [det for det in strays if self._height_fits(d, det)]) for d in occluded]
-        for d, box, score in self._histogram_matches(frame, candidates, occluded):
-            self._take(d, box, score, seen_part=True)
-            self.strays = [(det, n) for det, n in self.strays if det != box]
+        memories = [o.stored_histogram for o in self.dancers
+                    if o.hidden_behind is None and o.stored_histogram is not None]
+        for det in self._stray_people(detections, beside=True):
+            hist = colour_histogram(frame, det)
+            if hist is None or any(histogram_similarity(hist, m) >= c.reid_similarity for m in memories):
+                continue
+            fits = [d for d in self.waiting() if _height_within(det, d.box, c.max_height_change)
+                    and not self._wider_than(det, d, c.emerge_max_aspect)]
+            if not fits:
+                continue
+            d = min(fits, key=lambda o: float(np.linalg.norm(np.asarray(box_centre(det)) - box_centre(o.box))))
+            box = det if not (c.emerge_keeps_height and det[3] < d.box[3]) else (det[0], det[1], det[2], d.box[3])
+            self._take(d, box, 1.0)
+            d.tracker.init(frame, self._core(d.box))
+            d.stored_histogram, d.hidden_behind = hist, None
+            memories.append(hist)
 
     def _handed_over(self, frame, occluded: list[DancerTrack], dets: list, claims: dict[int, int]) -> dict:
         """Detections (x, y, w, h px) that the tracked dancers in ``claims`` (dancer id -> index into ``dets``)
