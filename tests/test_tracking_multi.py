@@ -1487,3 +1487,29 @@ def test_a_dancer_waiting_since_its_start_takes_a_stray_person_far_from_its_box(
     assert waits[2:] == [None] * 5
     assert box_iou(box, boxes[7][1]) > 0.7
     assert statuses(False)[0] == [0] * 7
+
+
+def test_a_dancer_in_front_of_one_waiting_behind_it_adapts_its_height(tmp_path):
+    """A dancer with another waiting straight behind it since the start overlaps it, so it used to count as in a
+    group and keep its box whatever its detections. With ``front_of_waiting_clear`` (the default since session 46)
+    it counts as clear: walking away (detections shrinking to 0.8 x its height, feet in place) its box's height
+    follows them, its width stays; without, the box keeps its start height."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=1, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    boxes = [tuple(float(v) for v in b[0]) for b in truth.boxes]
+    x, y, w, h = boxes[0]
+    behind = (x + 0.1 * w, y - 0.1 * h, 0.8 * w, 0.9 * h)  # a little smaller and higher: further back
+
+    def front_box(clear: bool) -> tuple:
+        tracker = MultiDancerTracker(frames[0], [boxes[0], behind], MultiTrackerConfig(front_of_waiting_clear=clear))
+        assert tracker.hiding_dancer(1) == 0
+        for t in range(1, 8):
+            x, y, w, h = boxes[t]
+            tracker.step(frames[t], [(x, y + 0.2 * h, w, 0.8 * h)])
+        assert tracker.hiding_dancer(1) == 0  # still waiting
+        return tracker.dancers[0].box
+
+    assert front_box(False)[3] == pytest.approx(h, rel=0.02)
+    assert front_box(True)[3] < 0.9 * h
+    assert front_box(True)[2] == pytest.approx(front_box(False)[2], rel=0.02)
+    assert MultiTrackerConfig().front_of_waiting_clear
