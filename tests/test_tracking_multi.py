@@ -388,11 +388,13 @@ def test_dancer_walking_out_of_a_stack_is_not_a_tracking_failure(tmp_path):
     (``still_needs_follower``); without the rule every such move counted as a failure (a ballet quartet, seed 137:
     IDF1 0.60 -> 0.88). A tracker that moves like the dancer it overlaps still fails (:meth:`_moves_with`). (The
     two start as a couple, so ``couple_moves_together`` would spare the walker too: it is off here; and it starts
-    mostly hidden behind the other, so ``waiting_yields`` would fail it in the first frame, before it moves: off.)"""
+    mostly hidden behind the other, so ``waiting_yields`` would fail it in the first frame, before it moves: off;
+    and ``front_of_waiting_clear`` would take the still dancer out of the group it forms with the walker: off.)"""
     truth = _stack_clip(tmp_path / "clip.mp4")
     frames = list(VideoReader(tmp_path / "clip.mp4"))
     for rule, expect_occluded in ((True, False), (False, True)):
-        config = MultiTrackerConfig(still_needs_follower=rule, couple_moves_together=False, waiting_yields=False)
+        config = MultiTrackerConfig(still_needs_follower=rule, couple_moves_together=False, waiting_yields=False,
+                                    front_of_waiting_clear=False)
         tracker = MultiDancerTracker(frames[0], truth.boxes[0], config)
         status = [tracker.step(frame).status[1] for frame in frames[1:]]
         assert (OCCLUDED in status) == expect_occluded, (rule, status)
@@ -448,7 +450,8 @@ def test_a_couple_that_walks_away_together_shrinks_together():
     """Two dancers who overlap all along keep the box size they met with unless their group scales: as both
     detections shrink alike the boxes shrink with them, keeping their own size convention (a box 10 % larger than
     the detector's stays so); a change seen on one dancer's detection alone (cut by the one in front) scales
-    nothing."""
+    nothing. (The second starts straight behind the first, so ``front_of_waiting_clear`` would make the first
+    clear of it, not a group: off for the run through ``step``.)"""
     frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
     boxes = [(300.0, 100.0, 70.0, 250.0), (330.0, 110.0, 66.0, 220.0)]  # cores overlap: one group
     tracker = MultiDancerTracker(frame, boxes)
@@ -478,7 +481,7 @@ def test_a_couple_that_walks_away_together_shrinks_together():
     assert all(d.group_reference is None for d in alone.dancers)
     heights = {}
     for rule in (True, False):  # through step(): the group scales with the rule, keeps its size without
-        stepped = MultiDancerTracker(frame, boxes, MultiTrackerConfig(group_scale=rule))
+        stepped = MultiDancerTracker(frame, boxes, MultiTrackerConfig(group_scale=rule, front_of_waiting_clear=False))
         for scale in (1.0,) + (0.8,) * 6:
             stepped.step(frame, detections(scale, scale))
         heights[rule] = [d.box[3] for d in stepped.dancers]
@@ -828,13 +831,15 @@ def test_dancer_waiting_behind_yields_the_same_person_test_to_the_dancer_in_fron
     on this clip the waiting one happens to match a little better. With ``waiting_yields`` the waiting dancer is
     the one that fails (hidden, as it started), and the dancer in front stays tracked; without it, the dancer the
     video shows is declared occluded (on cached synthetic clips it then stood still while the waiting dancer took
-    its place: seed 312 tango, IDF1 0.59)."""
+    its place: seed 312 tango, IDF1 0.59). The test by the match is run for dancers in a group: with
+    ``front_of_waiting_clear`` the dancer in front is clear of the one waiting straight behind it, so it is off here."""
     truth = render_clip(tmp_path / "clip.mp4", frames=3, size=(320, 240), specs=_stack_specs())
     frames = list(VideoReader(tmp_path / "clip.mp4"))
     assert iou_matrix(truth.boxes[0][:1], truth.boxes[0][1:])[0, 0] > MultiTrackerConfig().same_person_iou
     status = {}
     for on in (True, False):
-        tracker = MultiDancerTracker(frames[0], truth.boxes[0], MultiTrackerConfig(waiting_yields=on))
+        tracker = MultiDancerTracker(frames[0], truth.boxes[0],
+                                     MultiTrackerConfig(waiting_yields=on, front_of_waiting_clear=False))
         front, waiting = tracker.dancers
         assert waiting.hidden_behind == front.dancer_id
         status[on] = tracker.step(frames[1]).status
