@@ -17,14 +17,18 @@ cores too, so spread arms do not count. Per frame:
    the memory well and better than any other occluded dancer's) are re-identified at once, best matches first;
 5. from the predicted end of the overlap on, the dancer is *relocated*: candidate patches (the stored box size)
    are laid out in a cone along the stored motion direction, plus any person detections inside the cone; the
-   candidate whose histogram correlates best with the stored one takes the dancer, and tracking resumes there.
+   candidate whose histogram correlates best with the stored one takes the dancer, and tracking resumes there;
+6. an occluded dancer that neither finds takes a *stray person* wherever it is: a detection that no tracked dancer
+   takes, clear of all of them, seen on several detector frames in a row, whose colours match its memory
+   (:meth:`MultiDancerTracker._take_stray`).
 
 When person detections are given (``step(frame, detections)``), only those that can be one dancer alone count
-(body core clear of the other dancers, plausible height). The box of a clear dancer adapts its size and centre to
-the one detection on it; the boxes of dancers overlapping one another scale together when their detections grow or
-shrink alike (:meth:`MultiDancerTracker._scale_groups`). A clear dancer whose box has held no detected person for
-``max_missed_detections`` detector frames in a row may have lost its dancer (e.g. in a jump): if a detected person
-nearby, tracked by no one, matches its stored histogram clearly better than its box does (and better than any other
+(body core clear of the other dancers, plausible height; a dancer that others wait straight behind since their
+start, hidden, counts as clear of them, but its box adapts only its height). The box of a clear dancer adapts its
+size and centre to the one detection on it; the boxes of dancers overlapping one another scale together when their
+detections grow or shrink alike (:meth:`MultiDancerTracker._scale_groups`). A clear dancer whose box has held no
+detected person for ``max_missed_detections`` detector frames in a row may have lost its dancer (e.g. in a jump):
+if a detected person nearby, tracked by no one, matches its stored histogram clearly better than its box does (and better than any other
 dancer's, ``jump_rivals``), the dancer moves there and its tracker restarts; after ``long_lost_detections`` such
 frames the box's own match no longer counts, and the recovered box follows the detections for ``recovery_frames``.
 Its stored histogram is only updated on frames where no detection is missing on its box.
