@@ -28,9 +28,10 @@ start, hidden, counts as clear of them, but its box adapts only its height). The
 size and centre to the one detection on it; the boxes of dancers overlapping one another scale together when their
 detections grow or shrink alike (:meth:`MultiDancerTracker._scale_groups`). A clear dancer whose box has held no
 detected person for ``max_missed_detections`` detector frames in a row may have lost its dancer (e.g. in a jump):
-if a detected person nearby, tracked by no one, matches its stored histogram clearly better than its box does (and better than any other
-dancer's, ``jump_rivals``), the dancer moves there and its tracker restarts; after ``long_lost_detections`` such
-frames the box's own match no longer counts, and the recovered box follows the detections for ``recovery_frames``.
+if a detected person nearby, tracked by no one, matches its stored histogram clearly better than its box does (and
+better than any other dancer's, ``jump_rivals``), the dancer moves there and its tracker restarts; after
+``long_lost_detections`` such frames the box's own match no longer counts, and the recovered box follows the
+detections for ``recovery_frames``.
 Its stored histogram is only updated on frames where no detection is missing on its box.
 
 After Algorithm 2* has chosen each dancer's pose on a detector frame, the *reported* box may reach beyond the
