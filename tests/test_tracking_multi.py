@@ -1465,35 +1465,6 @@ def test_an_occluded_dancer_takes_a_stray_person_seen_on_three_detector_frames(t
     assert statuses(0)[0] == [OCCLUDED] * 6
 
 
-def test_a_dancer_waiting_since_its_start_takes_a_stray_person_far_from_its_box(tmp_path):
-    """A dancer started straight behind another waits there, knowing no colours of its own. A person the detector
-    finds beside the others, that no dancer seen takes and that looks like none of them, seen on three detector
-    frames in a row, is that dancer (``stray_waiting``), even more than a box height from where it waits (too far
-    for its emergence, ``emerge_distance``). Without the rule it keeps waiting."""
-    truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=2, seed=0))
-    frames = list(VideoReader(tmp_path / "clip.mp4"))
-    boxes = [[tuple(float(v) for v in b) for b in frame_boxes] for frame_boxes in truth.boxes]
-    x, y, w, h = boxes[0][0]
-    behind = (x + 0.1 * w, y - 0.1 * h, 0.8 * w, 0.9 * h)  # a little smaller and higher: further back
-    assert np.linalg.norm(np.subtract(boxes[4][1][:2], behind[:2])) > 1.2 * behind[3]
-
-    def statuses(stray_waiting: bool) -> tuple[list, tuple]:
-        tracker = MultiDancerTracker(frames[0], [boxes[0][0], behind],
-                                     MultiTrackerConfig(stray_waiting=stray_waiting))
-        assert tracker.hiding_dancer(1) == 0
-        waits = []
-        for t in range(1, 8):
-            tracker.step(frames[t], [boxes[t][0], boxes[t][1]])
-            waits.append(tracker.hiding_dancer(1))
-        return waits, tracker.dancers[1].box
-
-    waits, box = statuses(True)
-    assert waits[:2] == [0, 0]
-    assert waits[2:] == [None] * 5
-    assert box_iou(box, boxes[7][1]) > 0.7
-    assert statuses(False)[0] == [0] * 7
-
-
 def test_a_dancer_in_front_of_one_waiting_behind_it_adapts_its_height(tmp_path):
     """A dancer with another waiting straight behind it since the start overlaps it, so it used to count as in a
     group and keep its box whatever its detections. With ``front_of_waiting_clear`` (the default since session 46)

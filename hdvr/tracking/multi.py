@@ -202,11 +202,6 @@ class MultiTrackerConfig:
     # it is (:meth:`MultiDancerTracker._take_stray`). A dancer that came out from behind another on the side away
     # from its stored motion stayed occluded in its old place while the detector found it clear of everyone for
     # 60 frames (seed 2110 flamenco). 0: off
-    stray_waiting: bool = False  # ... and a dancer waiting since its start takes the nearest stray person beside the
-    # others (core overlap below ``emerge_beside_overlap``) that matches no memory of a dancer not waiting so.
-    # Measured in session 46, not kept: 504 synthetic clips, failing 27 -> 29 (2407 flamenco 0.883 -> 0.933, but
-    # 2507 flamenco 0.956 -> 0.719 with 2 switches, 2403 swing 1.000 -> 0.829, 2209 hip-hop 0.983 -> 0.865): with
-    # two dancers waiting in a stack of three, the nearest took the person the other one was (seed 2507, frame 9)
     front_of_waiting_clear: bool = True  # a dancer whose body core overlaps only dancers waiting straight behind it
     # since their start (``hidden_start_overlap``) counts as clear: its memory is stored, and its box's height (not
     # its width: the detection may hold their limbs beside it) adapts to the one detection on it. Before, such a
@@ -399,6 +394,12 @@ def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(np.dot(a, b) / (na * nb), -1.0, 1.0))))
 
 
+def _chain_length(before, box) -> int:
+    """Detector frames in a row on which a person lay at ``box`` (x, y, w, h px), this one included: 1 + the count
+    of the chain of the detector frame before (``before``: (box, count) pairs) on which it lies (IoU >= 0.5)."""
+    return 1 + max([n for b, n in before if box_iou(b, box) >= 0.5], default=0)
+
+
 def _height_within(box, reference, factor: float) -> bool:
     """Whether (x, y, w, h px) ``box`` is at most ``factor`` x taller or shorter than ``reference``."""
     return 1 / factor <= box[3] / reference[3] <= factor
@@ -420,7 +421,6 @@ class MultiDancerTracker(ReportedExtent):
         self.dancers: list[DancerTrack] = []
         self._foreground_cache = None  # :meth:`_foreground`
         self.strays: list[tuple[tuple, int]] = []  # :meth:`_stray_people`: (box px, detector frames in a row)
-        self.strays_beside: list[tuple[tuple, int]] = []  # ... beside the dancers seen (``stray_waiting``)
         for b in boxes:
             self.add_dancer(frame, b)
 
@@ -729,11 +729,9 @@ class MultiDancerTracker(ReportedExtent):
             if d.status != TRACKED:
                 continue
             overlapping = self._overlapping(i, self._boxes_now(self.dancers))
-            fronting = False
-            if c.front_of_waiting_clear:  # dancers waiting hidden behind it since their start show nothing of theirs
-                alone = [j for j in overlapping if not (self.dancers[j].hidden_behind == d.dancer_id and
-                         self._straight_in_front(d, self.dancers[j], c.hidden_start_overlap))]
-                fronting, overlapping = len(alone) < len(overlapping), alone
+            # dancers waiting hidden straight behind it since their start show nothing of theirs
+            alone = [j for j in overlapping if not self._clear_of_waiting(d, self.dancers[j])]
+            fronting, overlapping = len(alone) < len(overlapping), alone
             if not overlapping and detections is not None:
                 def on_box(det, box=d.box) -> bool:
                     return box_overlap(box, det) > 0.5 and box_iou(box, det) > 0.2
@@ -1056,9 +1054,15 @@ class MultiDancerTracker(ReportedExtent):
         stature; the detector sometimes returns a box across the whole frame)."""
         c = self.config
         return self._person_sized(d, detection, max_height_change) and \
-            all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold for o in self.dancers if o is not d
-                and not (c.front_of_waiting_clear and o.hidden_behind == d.dancer_id
-                         and self._straight_in_front(d, o, c.hidden_start_overlap)))
+            all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold for o in self.dancers
+                if o is not d and not self._clear_of_waiting(d, o))
+
+    def _clear_of_waiting(self, d: DancerTrack, o: DancerTrack) -> bool:
+        """With ``front_of_waiting_clear``, whether dancer ``d`` counts as clear of dancer ``o``, which overlaps it:
+        ``o`` still waits hidden behind ``d`` since its start, straight behind it (``hidden_start_overlap``)."""
+        c = self.config
+        return c.front_of_waiting_clear and o.hidden_behind == d.dancer_id and \
+            self._straight_in_front(d, o, c.hidden_start_overlap)
 
     def _person_sized(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
         """Whether ``detection`` (x, y, w, h px) has the size of dancer ``d`` alone: its height within
@@ -1629,7 +1633,7 @@ class MultiDancerTracker(ReportedExtent):
                     if any(o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
                            >= c.emerge_beside_similarity for o in overlapped):
                         continue
-                    count = 1 + max([n for box, n in d.beside_before if box_iou(box, det) >= 0.5], default=0)
+                    count = _chain_length(d.beside_before, det)
                     d.beside_now.append((det, count))
                     if count < c.emerge_beside_persist:
                         continue
@@ -1739,34 +1743,20 @@ class MultiDancerTracker(ReportedExtent):
                 holder.size_ratio = None  # perhaps learned from that detection
                 self._occlude(holder, [d])
 
-    def _stray_people(self, detections, beside: bool = False) -> list[tuple[float, float, float, float]]:
+    def _stray_people(self, detections) -> list[tuple[float, float, float, float]]:
         """Sure ``detections`` (x, y, w, h px) of this detector frame that no tracked dancer takes
         (:meth:`_claims`) and whose body core overlaps no tracked dancer's (``overlap_threshold``): people the
         tracking accounts for nowhere. Each continues the chain of a stray person of the detector frame before on
-        which it lies (IoU >= 0.5; ``strays`` keeps each one's count of detector frames in a row). Returns those
-        seen on ``orphan_persist`` detector frames in a row, this one included. ``beside``: people beside the
-        dancers seen rather than clear of them, for the dancers waiting since their start: the tracked dancers not
-        waiting so take detections in one assignment, and a core may overlap theirs by less than
-        ``emerge_beside_overlap`` (chains kept apart, in ``strays_beside``)."""
+        which it lies (:func:`_chain_length`; ``strays`` keeps each one's count of detector frames in a row).
+        Returns those seen on ``orphan_persist`` detector frames in a row, this one included."""
         c = self.config
         dets = [tuple(float(v) for v in det) for det in detections]
-        if beside:
-            tracked = [o for o in self.dancers if o.status == TRACKED and o.hidden_behind is None]
-            claimed = {k for _, k in self._fit_assignment([o.box for o in tracked], dets)[1]} if tracked else set()
-            stray = [det for k, det in enumerate(dets) if k not in claimed
-                     and all(self._bodies_overlap(det, o.box) < c.emerge_beside_overlap for o in tracked)]
-        else:
-            tracked = [o for o in self.dancers if o.status == TRACKED]
-            claimed = set(self._claims(dets).values())
-            stray = [det for k, det in enumerate(dets) if k not in claimed
-                     and all(self._bodies_overlap(det, o.box) <= c.overlap_threshold for o in tracked)]
-        before = self.strays_beside if beside else self.strays
-        chains = [(det, 1 + max([n for box, n in before if box_iou(box, det) >= 0.5], default=0)) for det in stray]
-        if beside:
-            self.strays_beside = chains
-        else:
-            self.strays = chains
-        return [det for det, n in chains if n >= c.orphan_persist]
+        claimed = set(self._claims(dets).values())
+        tracked = [o for o in self.dancers if o.status == TRACKED]
+        stray = [det for k, det in enumerate(dets) if k not in claimed
+                 and all(self._bodies_overlap(det, o.box) <= c.overlap_threshold for o in tracked)]
+        self.strays = [(det, _chain_length(self.strays, det)) for det in stray]
+        return [det for det, n in self.strays if n >= c.orphan_persist]
 
     def _take_stray(self, frame, detections) -> None:
         """Occluded dancers (not those waiting since their start, ``hidden_behind``) take stray people
@@ -1774,38 +1764,15 @@ class MultiDancerTracker(ReportedExtent):
         :meth:`_histogram_matches` against the other occluded dancers' memories (``orphan_persist``). Where the
         dancer came out from behind the others is not always where its stored motion led: a person the tracking
         accounts for nowhere, seen on several detector frames, and looking like the one dancer it has lost, is
-        that dancer. With ``stray_waiting``, a dancer waiting since its start takes the nearest stray person beside
-        the others (``beside``) whose colours match no memory of a dancer not waiting so (``reid_similarity``),
-        within ``max_height_change`` of its box height and at most ``emerge_max_aspect`` x as wide for its height:
-        it knows no colours of its own, so it is found by elimination."""
-        c = self.config
-        strays = self._stray_people(detections)
+        that dancer."""
+        strays = self._stray_people(detections)  # on every detector frame: the chains must not break
         occluded = [d for d in self.dancers if d.status == OCCLUDED and d.hidden_behind is None]
-        if strays and occluded:
-            candidates = [(d, [det for det in strays if self._height_fits(d, det)]) for d in occluded]
-            for d, box, score in self._histogram_matches(frame, candidates, occluded):
-                self._take(d, box, score, seen_part=True)
-                self.strays = [(det, n) for det, n in self.strays if det != box]
-        waiting = self.waiting()
-        if not c.stray_waiting or not waiting:
-            self.strays_beside = []
+        if not strays or not occluded:
             return
-        memories = [o.stored_histogram for o in self.dancers
-                    if o.hidden_behind is None and o.stored_histogram is not None]
-        for det in self._stray_people(detections, beside=True):
-            hist = colour_histogram(frame, det)
-            if hist is None or any(histogram_similarity(hist, m) >= c.reid_similarity for m in memories):
-                continue
-            fits = [d for d in self.waiting() if _height_within(det, d.box, c.max_height_change)
-                    and not self._wider_than(det, d, c.emerge_max_aspect)]
-            if not fits:
-                continue
-            d = min(fits, key=lambda o: float(np.linalg.norm(np.asarray(box_centre(det)) - box_centre(o.box))))
-            box = det if not (c.emerge_keeps_height and det[3] < d.box[3]) else (det[0], det[1], det[2], d.box[3])
-            self._take(d, box, 1.0)
-            d.tracker.init(frame, self._core(d.box))
-            d.stored_histogram, d.hidden_behind = hist, None
-            memories.append(hist)
+        candidates = [(d, [det for det in strays if self._height_fits(d, det)]) for d in occluded]
+        for d, box, score in self._histogram_matches(frame, candidates, occluded):
+            self._take(d, box, score, seen_part=True)
+            self.strays = [(det, n) for det, n in self.strays if det != box]
 
     def _handed_over(self, frame, occluded: list[DancerTrack], dets: list, claims: dict[int, int]) -> dict:
         """Detections (x, y, w, h px) that the tracked dancers in ``claims`` (dancer id -> index into ``dets``)
