@@ -1,5 +1,7 @@
 """Algorithm 1* on procedural crossing clips with known trajectories (scored with trackeval)."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -1489,3 +1491,58 @@ def test_a_dancer_in_front_of_one_waiting_behind_it_adapts_its_height(tmp_path):
     assert front_box(True)[3] < 0.9 * h
     assert front_box(True)[2] == pytest.approx(front_box(False)[2], rel=0.02)
     assert MultiTrackerConfig().front_of_waiting_clear
+
+
+def test_a_tracked_dancer_whose_box_stayed_behind_takes_a_stray_person_with_its_colours(tmp_path):
+    """A dancer in a group can keep a box that stays behind (on the background or the dancer it walked behind)
+    while it comes out elsewhere: still tracked, nothing re-identifies it. With ``stray_adrift`` (the default since
+    session 47) a stray person (no tracked dancer takes it, clear of their cores, seen on three detector frames in
+    a row) whose colours match the dancer's memory better than its box does, and no other dancer's as well, takes
+    the dancer's tracker there. The clear dancer's own jump to a detection is switched off here
+    (``max_missed_detections``) so that only the stray rule can bring it back."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=2, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    boxes = [[tuple(float(v) for v in b) for b in frame_boxes] for frame_boxes in truth.boxes]
+    background = (250.0, 20.0, 95.0, 275.0)  # between the two figures, on the backdrop
+    assert all(box_iou(background, b) == 0.0 for frame_boxes in boxes for b in frame_boxes)
+
+    def final_box(adrift: bool) -> tuple:
+        config = MultiTrackerConfig(stray_adrift=adrift, max_missed_detections=1000)
+        tracker = MultiDancerTracker(frames[0], boxes[0], config)
+        tracker.step(frames[1], boxes[1])
+        lost = tracker.dancers[0]
+        tracker._restart(lost, frames[1], background, 0.5)  # its tracker now follows the backdrop
+        for t in range(2, 8):
+            tracker.step(frames[t], boxes[t])
+        assert lost.status == TRACKED
+        return lost.box
+
+    assert box_iou(final_box(True), boxes[7][0]) > 0.7
+    assert box_iou(final_box(False), boxes[7][0]) == 0.0
+
+
+def test_a_waiting_dancer_does_not_come_out_on_a_person_who_plainly_is_another_dancer():
+    """A dancer waiting behind another since its start has no colours of its own, so it used to take any person
+    coming out near it that did not look like the dancer in front. With ``emerge_yields_to_known`` (the default
+    since session 47) a person whose colours match another dancer's memory (at least ``reid_similarity``, by
+    ``reid_margin`` over every other known dancer) is left to that dancer (:meth:`_shows_known_dancer`)."""
+    frame = np.zeros((480, 640, 3), np.uint8)
+    frame[:, :200] = (0, 0, 200)  # red figure region
+    frame[:, 200:400] = (200, 60, 0)  # blue
+    frame[:, 400:] = (40, 200, 40)  # green
+    red, blue, green = (50.0, 100.0, 80.0, 250.0), (250.0, 100.0, 80.0, 250.0), (450.0, 100.0, 80.0, 250.0)
+    tracker = MultiDancerTracker(frame, [red, blue, green])
+    front, known, waiting = tracker.dancers
+    for d, box in zip(tracker.dancers, (red, blue, green)):
+        d.stored_histogram = colour_histogram(frame, box)
+    waiting.hidden_behind = front.dancer_id
+    shows = lambda box: tracker._shows_known_dancer(colour_histogram(frame, box), front)  # noqa: E731
+    assert shows(blue)  # the blue dancer, plainly
+    assert not shows(red)  # the front dancer's colours: tested separately, by the front's own rule
+    assert not shows(green)  # only the waiting dancer's (borrowed) memory: nobody known
+    config = tracker.config
+    tracker.config = dataclasses.replace(config, emerge_yields_to_known=False)
+    assert not shows(blue)
+    tracker.config = config
+    front.stored_histogram = known.stored_histogram.copy()  # two known dancers dressed alike: no plain match
+    assert not shows(blue)

@@ -157,6 +157,12 @@ class MultiTrackerConfig:
     emerge_relative: bool = True  # ... or that looks like it by ``reid_margin`` less than that dancer's own box
     # does: a person dressed partly alike is someone else (seed 504 flamenco: the dancer behind wore the front
     # dancer's colours in other places, 0.61-0.78 match; IDF1 0.728 -> 0.975)
+    emerge_yields_to_known: bool = True  # ... nor that shows another dancer whose colours are known (not one
+    # waiting so): its memory matches at least ``reid_similarity`` and by ``reid_margin`` more than every other
+    # such dancer's (:meth:`MultiDancerTracker._shows_known_dancer`). The waiting dancer's colours are unknown; a
+    # person who plainly is someone else is left to that dancer. A dancer waiting behind another since its start
+    # took a dancer who had walked behind the same one and came out on the far side (her memory 0.92, the others
+    # at most 0.43) while her box stayed behind, and kept her all clip (seed 2305 ballet)
     emerge_keeps_height: bool = True  # a dancer coming out on a detection shorter than its box keeps the box's
     # height (the detector sees the part already out; seed 705 tango, a couple in hold: 0.533 -> 0.812)
     emerge_beside_persist: int = 3  # with N > 0, a waiting dancer may also come out on a detection whose body core
@@ -202,6 +208,13 @@ class MultiTrackerConfig:
     # it is (:meth:`MultiDancerTracker._take_stray`). A dancer that came out from behind another on the side away
     # from its stored motion stayed occluded in its old place while the detector found it clear of everyone for
     # 60 frames (seed 2110 flamenco). 0: off
+    stray_adrift: bool = True  # ... and so does a tracked dancer whose memory a person no tracked dancer takes,
+    # seen so on as many detector frames in a row (clear of the tracked dancers' cores or not) matches by
+    # ``stray_adrift_margin`` better than its box does now (its box stayed behind in a group while the dancer came
+    # out elsewhere), at least ``reid_similarity`` and by ``reid_margin`` better than the memory of any other dancer
+    # whose colours are known; its tracker restarts there (seed 2305 ballet: a dancer's box stayed by the dancer she
+    # had walked behind, for 75 frames, matching her memory 0.75 against the person's 0.83-0.90)
+    stray_adrift_margin: float = 0.05
     front_of_waiting_clear: bool = True  # a dancer whose body core overlaps only dancers waiting straight behind it
     # since their start (``hidden_start_overlap``) counts as clear: its memory is stored, and its box's height (not
     # its width: the detection may hold their limbs beside it) adapts to the one detection on it. Before, such a
@@ -421,6 +434,7 @@ class MultiDancerTracker(ReportedExtent):
         self.dancers: list[DancerTrack] = []
         self._foreground_cache = None  # :meth:`_foreground`
         self.strays: list[tuple[tuple, int]] = []  # :meth:`_stray_people`: (box px, detector frames in a row)
+        self.unclaimed: list[tuple[tuple, int]] = []  # ... the same for every detection no tracked dancer takes
         for b in boxes:
             self.add_dancer(frame, b)
 
@@ -1577,7 +1591,8 @@ class MultiDancerTracker(ReportedExtent):
         ``max_height_change`` of the box's, whose width / height is at most ``emerge_max_aspect`` x the box's (a
         wider one is a part of a dancer drawn as a person), and whose colours match the hiding dancer's memory less than
         ``reid_similarity`` (or, ``emerge_relative``, by ``reid_margin`` less than the hiding dancer's box does
-        now); the nearest such detection. The dancer's box moves there (unless it already overlaps it by IoU 0.5,
+        now) and that does not plainly show another dancer whose colours are known (:meth:`_shows_known_dancer`);
+        the nearest such detection. The dancer's box moves there (unless it already overlaps it by IoU 0.5,
         or more; keeping its height when the detection is shorter, ``emerge_keeps_height``), and it learns its
         colours from it, replacing those of the dancer in front: it no longer waits. With ``emerge_beside_persist``
         N, a detection whose body core overlaps other dancers' less than ``emerge_beside_overlap`` counts too, when
@@ -1627,7 +1642,8 @@ class MultiDancerTracker(ReportedExtent):
                 if k not in histograms:
                     histograms[k] = colour_histogram(frame, det)
                 hist = histograms[k]
-                if hist is None or histogram_similarity(hist, front.stored_histogram) >= unlike_front:
+                if hist is None or histogram_similarity(hist, front.stored_histogram) >= unlike_front \
+                        or self._shows_known_dancer(hist, front):
                     continue
                 if overlapped:  # beside others: unlike each of them, and there on the detector frames before
                     if any(o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
@@ -1649,6 +1665,20 @@ class MultiDancerTracker(ReportedExtent):
                 self._take(d, det, 1.0)
                 d.tracker.init(frame, self._core(d.box))
             d.stored_histogram, d.hidden_behind = hist, None
+
+    def _shows_known_dancer(self, hist, front: DancerTrack) -> bool:
+        """With ``emerge_yields_to_known``, whether a detection with colour histogram ``hist`` shows a dancer other
+        than ``front`` whose colours are known (not out, not waiting since its start): its memory matches at least
+        ``reid_similarity`` and by ``reid_margin`` more than every other such dancer's."""
+        c = self.config
+        if not c.emerge_yields_to_known:
+            return False
+        scores = sorted(((histogram_similarity(hist, o.stored_histogram), o.dancer_id) for o in self.dancers
+                         if o.status != OUT and o.hidden_behind is None and o.stored_histogram is not None),
+                        reverse=True)
+        if not scores or scores[0][0] < c.reid_similarity or scores[0][1] == front.dancer_id:
+            return False
+        return len(scores) < 2 or scores[0][0] - scores[1][0] >= c.reid_margin
 
     def _claimed(self, detections) -> set[int]:
         """Indices of the detections that tracked dancers take in one assignment (Hungarian on
@@ -1753,8 +1783,10 @@ class MultiDancerTracker(ReportedExtent):
         dets = [tuple(float(v) for v in det) for det in detections]
         claimed = set(self._claims(dets).values())
         tracked = [o for o in self.dancers if o.status == TRACKED]
-        stray = [det for k, det in enumerate(dets) if k not in claimed
-                 and all(self._bodies_overlap(det, o.box) <= c.overlap_threshold for o in tracked)]
+        unclaimed = [det for k, det in enumerate(dets) if k not in claimed]
+        stray = [det for det in unclaimed if all(self._bodies_overlap(det, o.box) <= c.overlap_threshold
+                                                 for o in tracked)]
+        self.unclaimed = [(det, _chain_length(self.unclaimed, det)) for det in unclaimed]
         self.strays = [(det, _chain_length(self.strays, det)) for det in stray]
         return [det for det, n in self.strays if n >= c.orphan_persist]
 
@@ -1764,15 +1796,40 @@ class MultiDancerTracker(ReportedExtent):
         :meth:`_histogram_matches` against the other occluded dancers' memories (``orphan_persist``). Where the
         dancer came out from behind the others is not always where its stored motion led: a person the tracking
         accounts for nowhere, seen on several detector frames, and looking like the one dancer it has lost, is
-        that dancer."""
+        that dancer. With ``stray_adrift``, tracked dancers then take the people left that no tracked dancer takes
+        and that were seen on as many detector frames in a row (clear of the tracked dancers or not: the box of the
+        dancer it came out from behind may hold it), whose colours match their memory better
+        (``stray_adrift_margin``) than their box does now, against every known dancer's memory."""
+        c = self.config
         strays = self._stray_people(detections)  # on every detector frame: the chains must not break
         occluded = [d for d in self.dancers if d.status == OCCLUDED and d.hidden_behind is None]
-        if not strays or not occluded:
+        taken = []
+        if strays and occluded:
+            candidates = [(d, [det for det in strays if self._height_fits(d, det)]) for d in occluded]
+            for d, box, score in self._histogram_matches(frame, candidates, occluded):
+                self._take(d, box, score, seen_part=True)
+                taken.append(box)
+                self.strays = [(det, n) for det, n in self.strays if det != box]
+        # with stray_adrift, any person no tracked dancer takes, seen so long, even on a tracked dancer's body
+        strays = [det for det, n in self.unclaimed if n >= c.orphan_persist and det not in taken]
+        if not c.stray_adrift or not strays:
             return
-        candidates = [(d, [det for det in strays if self._height_fits(d, det)]) for d in occluded]
-        for d, box, score in self._histogram_matches(frame, candidates, occluded):
-            self._take(d, box, score, seen_part=True)
+        # tracked dancers whose colours a stray person shows better than their box does: the box may have stayed
+        # behind (in a group) while the dancer came out elsewhere; rivals: every dancer whose colours are known
+        known = [d for d in self.dancers if d.status != OUT and d.hidden_behind is None
+                 and d.stored_histogram is not None]
+        histograms = {det: colour_histogram(frame, det) for det in strays}
+        candidates = []
+        for d in known:
+            if d.status != TRACKED:
+                continue
+            current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
+            candidates.append((d, [det for det in strays if self._height_fits(d, det) and histogram_similarity(
+                histograms[det], d.stored_histogram) >= current + c.stray_adrift_margin]))
+        for d, box, score in self._histogram_matches(frame, candidates, known):
+            self._restart(d, frame, self._feet_hidden(d, box), score)
             self.strays = [(det, n) for det, n in self.strays if det != box]
+            self.unclaimed = [(det, n) for det, n in self.unclaimed if det != box]
 
     def _handed_over(self, frame, occluded: list[DancerTrack], dets: list, claims: dict[int, int]) -> dict:
         """Detections (x, y, w, h px) that the tracked dancers in ``claims`` (dancer id -> index into ``dets``)
