@@ -500,7 +500,9 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
                 if per_clip is not None:
                     per_clip[f"{seed}:{index}{':groups' if groups else ''}:{thr:g}"] = {
                         "genre": genre, "dancers": n, "idf1": s.idf1, "id_switches": s.id_switches,
-                        "hidden_starts": len(run.hidden_starts), "fewest_frames_shown": shown}
+                        "hidden_starts": len(run.hidden_starts), "fewest_frames_shown": shown,
+                        "mota": s.mota, "hota": s.hota, "idf1_iou04": loose.idf1,
+                        "id_switches_iou04": loose.id_switches}
                 print(lines[-1], file=sys.stderr)
     lines.append("")
     for thr, rows in scores.items():

@@ -36,7 +36,19 @@ def test_changed_clips_and_summaries(tmp_path, capsys):
     assert compare.main([str(before), str(after)]) == 0
     out = capsys.readouterr().out
     assert "503:5:0.3 ballet: IDF1 0.633 -> 0.723, switches 0 -> 0" in out
-    assert "3 clips, mean IDF1 0.8003, 3 below 0.9, 1 switches on 1 clips" in out  # only clips both runs hold
+    assert "3 clips, mean IDF1 0.8003, 3 below 0.9, 1 switches on 1 clips, 3 failing\n" in out  # clips both hold
+
+
+def test_summary_adds_hota_and_the_failing_clips_at_iou_04_when_the_runs_have_them():
+    """Runs written since session 47 also hold each clip's HOTA and its IDF1 and switches at IoU 0.4: the summary
+    then gives the mean HOTA and the failing clips (IDF1 < 0.9 or a switch) at IoU 0.4 too."""
+    compare = _load("compare_track_runs")
+    clips = {"1:0:0.3": {**_clip(0.85, 0), "hota": 0.7, "idf1_iou04": 0.95, "id_switches_iou04": 0},
+             "2:0:0.3": {**_clip(1.0, 1), "hota": 0.9, "idf1_iou04": 1.0, "id_switches_iou04": 1}}
+    assert compare.summary(clips, list(clips)) == ("2 clips, mean IDF1 0.9250, 1 below 0.9, 1 switches on 1 clips, "
+                                                   "2 failing; mean HOTA 0.8000, 1 failing at IoU 0.4")
+    del clips["2:0:0.3"]["hota"]  # an older run's clip: no HOTA part
+    assert compare.summary(clips, list(clips)).endswith("2 failing")
 
 
 def test_a_file_that_is_not_a_run_is_a_one_line_error(tmp_path):
