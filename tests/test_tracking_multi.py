@@ -1440,8 +1440,8 @@ def test_an_occluded_dancer_takes_a_stray_person_seen_on_three_detector_frames(t
     """A dancer occluded on the far side of the frame from where it shows again (its box and last clear box left
     on the other dancer) is out of reach of re-identification and relocation, which look near its box. A person the
     detector finds clear of every tracked dancer, that no tracked dancer takes, is a *stray*; with
-    ``orphan_persist`` 3 (the default) the dancer takes it on the third detector frame in a row it is seen, not
-    before; with 0 it stays occluded."""
+    ``orphan_persist`` 3 the dancer takes it on the third detector frame in a row it is seen, not before; with 2
+    (the default since session 47) on the second; with 0 it stays occluded."""
     truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=2, seed=0))
     frames = list(VideoReader(tmp_path / "clip.mp4"))
     boxes = [[tuple(float(v) for v in b) for b in frame_boxes] for frame_boxes in truth.boxes]
@@ -1464,6 +1464,9 @@ def test_an_occluded_dancer_takes_a_stray_person_seen_on_three_detector_frames(t
     assert seen[:2] == [OCCLUDED, OCCLUDED]
     assert seen[2:] == [TRACKED] * 4
     assert box_iou(box, boxes[7][0]) > 0.7
+    seen, box = statuses(2)
+    assert seen == [OCCLUDED] + [TRACKED] * 5 and box_iou(box, boxes[7][0]) > 0.7
+    assert MultiTrackerConfig().orphan_persist == 2
     assert statuses(0)[0] == [OCCLUDED] * 6
 
 

@@ -200,14 +200,16 @@ class MultiTrackerConfig:
     # moves on (seed 612 tango 1.000 -> 0.667; docs/tracking.md, session 35)
     start_seen_margin: float = 0.2
     start_seen_aspect: float = 1.5  # a wider box is a box around the dancer and someone beside (seed 309 hip-hop)
-    orphan_persist: int = 3  # with N > 0, an occluded dancer (not one waiting since its start) that neither
+    orphan_persist: int = 2  # with N > 0, an occluded dancer (not one waiting since its start) that neither
     # re-identification nor relocation finds takes a *stray person*: a sure detection that no tracked dancer takes,
     # clear of every tracked dancer's body core and within ``reid_height_change`` of the dancer's box height, that
     # lay there (IoU >= 0.5 with the one before) on N detector frames in a row, if its colours match the dancer's
     # memory at least ``reid_similarity`` and by ``reid_margin`` better than any other occluded dancer's; wherever
     # it is (:meth:`MultiDancerTracker._take_stray`). A dancer that came out from behind another on the side away
     # from its stored motion stayed occluded in its old place while the detector found it clear of everyone for
-    # 60 frames (seed 2110 flamenco). 0: off
+    # 60 frames (seed 2110 flamenco). 0: off. 3 until session 47; 2 (with ``stray_adrift``), 504 synthetic clips:
+    # failing 24 -> 23, switches 16 -> 14 (302 flamenco 0.922 with 2 switches -> 0.939 with none; 2310 ballet,
+    # failing already, 0.873 -> 0.852)
     stray_adrift: bool = True  # ... and so does a tracked dancer whose memory a person no tracked dancer takes,
     # seen so on as many detector frames in a row (clear of the tracked dancers' cores or not) matches by
     # ``stray_adrift_margin`` better than its box does now (its box stayed behind in a group while the dancer came
