@@ -480,8 +480,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
             if truth_detector:
                 detectors = {0: GroundTruthDetector.from_clip(clip, amodal=amodal_truth)}
             for thr, detector in detectors.items():
-                run = track_video(clip / "video.mp4", tmp / "synth-out", detector=detector, starts=starts,
-                                  detect_every=3, overlay=False, write=False, config=config, hindsight=hindsight)
+                run = track_synth_clip(clip, tmp / "synth-out", detector, starts, config, hindsight)
                 tracked = run.boxes[:, np.argsort(order)]
                 keypoints = run.keypoints[:, np.argsort(order)]
                 s = evaluate_tracking(gt, tracked)
@@ -531,6 +530,16 @@ def _miss_cause_table(threshold: float, counts: dict) -> list[str]:
         lines.append(f"| {v} | {sum(counts.get((v, c), 0) for c in MISS_CAUSES)} | "
                      + " | ".join(f"{x:.2f}" for x in row) + " |")
     return lines + [""]
+
+
+def track_synth_clip(clip: Path, out: Path, detector, starts, config=None, hindsight: bool = True,
+                     write: bool = False):
+    """``track_video`` on an hdvr synth clip folder as the synth section runs it: from ``starts``
+    (:func:`_starts_from_truth`), the detector on every 3rd frame, no overlay nor timeline; with ``write`` the
+    outputs of ``hdvr track`` go to ``out`` (with a detections cache there, reused by a second run)."""
+    return track_video(clip / "video.mp4", out, detector=detector, starts=starts, detect_every=3, overlay=False,
+                       write=write, config=config, hindsight=hindsight, timeline=False,
+                       detections_cache=out / "detections.npz" if write else None)
 
 
 def _seen_truth(clip: Path) -> tuple[np.ndarray, np.ndarray]:

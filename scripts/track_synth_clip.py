@@ -24,13 +24,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_track import (TrackingModel, _seen_truth, _starts_from_truth, parse_tracker_config,  # noqa: E402
-                         tracking_detector)
+                         track_synth_clip, tracking_detector)
 
 from hdvr.errors import HDVRError  # noqa: E402
 from hdvr.pipeline import WEAK_DETECTION_THRESHOLD  # noqa: E402
 from hdvr.pose2d.models import default_pose_model  # noqa: E402
 from hdvr.tracking.evaluation import evaluate_tracking, iou_matrix  # noqa: E402
-from hdvr.tracking.pipeline import track_video  # noqa: E402
 
 
 def frame_table(truth_boxes: np.ndarray, tracked: np.ndarray, seen: np.ndarray, every: int = 1) -> list[str]:
@@ -66,9 +65,7 @@ def main(argv=None) -> int:
     order, starts = _starts_from_truth(truth_boxes)
     detector = tracking_detector(TrackingModel(default_pose_model(), WEAK_DETECTION_THRESHOLD, False))
     try:
-        run = track_video(args.clip / "video.mp4", args.out, detector=detector, starts=starts, detect_every=3,
-                          overlay=False, write=True, config=config, hindsight=True, timeline=False,
-                          detections_cache=args.out / "detections.npz")
+        run = track_synth_clip(args.clip, args.out, detector, starts, config, write=True)
     except HDVRError as exc:
         raise SystemExit(f"track_synth_clip: {exc}")
     tracked = run.boxes[:, np.argsort(order)]

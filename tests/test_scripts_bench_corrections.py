@@ -1,19 +1,9 @@
 """scripts/bench_corrections.py: the simulated user's choice of corrections and the summary table."""
 
-import importlib.util
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
-
-SCRIPTS = Path(__file__).resolve().parents[1] / "scripts"
-
-
-def _load():
-    spec = importlib.util.spec_from_file_location("bench_corrections", SCRIPTS / "bench_corrections.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+from script_loader import load_script
 
 
 def _swap_clip():
@@ -31,7 +21,7 @@ def _swap_clip():
 
 
 def test_wrong_frames_keep_only_long_stretches():
-    bc = _load()
+    bc = load_script("bench_corrections")
     gt, boxes = _swap_clip()
     wrong = bc.wrong_frames(gt, boxes, min_stretch=5)
     assert wrong[:, :2].sum(axis=0).tolist() == [12, 12] and wrong[8:, :2].all()
@@ -43,7 +33,7 @@ def test_wrong_frames_keep_only_long_stretches():
 
 
 def test_next_corrections_fix_both_dancers_of_a_switch_where_they_are_seen():
-    bc = _load()
+    bc = load_script("bench_corrections")
     gt, boxes = _swap_clip()
     shown = np.ones((20, 3))
     fixes, swaps = bc.next_corrections(gt, boxes, shown, min_stretch=5)
@@ -58,7 +48,7 @@ def test_next_corrections_fix_both_dancers_of_a_switch_where_they_are_seen():
 
 
 def test_summary_counts_the_clips_passing_after_each_number_of_corrections():
-    bc = _load()
+    bc = load_script("bench_corrections")
     per_clip = {
         "1:2": {"rounds": [{"idf1": 0.8, "switches": 0, "corrections": 0}, {"idf1": 0.95, "switches": 0,
                                                                             "corrections": 2}], "passes": True},
@@ -73,7 +63,7 @@ def test_summary_counts_the_clips_passing_after_each_number_of_corrections():
 
 
 def test_the_user_clicks_on_the_visible_keypoint_nearest_the_middle_of_the_body():
-    bc = _load()
+    bc = load_script("bench_corrections")
     kp = np.zeros((25, 3))
     kp[[1, 8, 11], :2] = [(100.0, 50.0), (100.0, 110.0), (100.0, 250.0)]  # neck, mid-hip, ankle
     kp[[1, 8, 11], 2] = 1.0

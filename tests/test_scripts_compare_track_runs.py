@@ -1,19 +1,9 @@
 """scripts/compare_track_runs.py, bench_track's --tracker-config and its miss-cause table."""
 
-import importlib.util
 import json
-from pathlib import Path
 
 import pytest
-
-SCRIPTS = Path(__file__).resolve().parents[1] / "scripts"
-
-
-def _load(name):
-    spec = importlib.util.spec_from_file_location(name, SCRIPTS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+from script_loader import SCRIPTS, load_script
 
 
 def _run_file(path, clips):
@@ -26,7 +16,7 @@ def _clip(idf1, switches, genre="ballet"):
 
 
 def test_changed_clips_and_summaries(tmp_path, capsys):
-    compare = _load("compare_track_runs")
+    compare = load_script("compare_track_runs")
     before = _run_file(tmp_path / "a.json", {"503:5:0.3": _clip(0.633, 0), "308:3:0.3": _clip(0.883, 0, "flamenco"),
                                              "301:4:0.3": _clip(0.885, 1, "hip_hop"), "201:0:0.3": _clip(1.0, 0)})
     after = _run_file(tmp_path / "b.json", {"503:5:0.3": _clip(0.723, 0), "308:3:0.3": _clip(0.8832, 0, "flamenco"),
@@ -42,7 +32,7 @@ def test_changed_clips_and_summaries(tmp_path, capsys):
 def test_summary_adds_hota_and_the_failing_clips_at_iou_04_when_the_runs_have_them():
     """Runs written since session 47 also hold each clip's HOTA and its IDF1 and switches at IoU 0.4: the summary
     then gives the mean HOTA and the failing clips (IDF1 < 0.9 or a switch) at IoU 0.4 too."""
-    compare = _load("compare_track_runs")
+    compare = load_script("compare_track_runs")
     clips = {"1:0:0.3": {**_clip(0.85, 0), "hota": 0.7, "idf1_iou04": 0.95, "id_switches_iou04": 0},
              "2:0:0.3": {**_clip(1.0, 1), "hota": 0.9, "idf1_iou04": 1.0, "id_switches_iou04": 1}}
     assert compare.summary(clips, list(clips)) == ("2 clips, mean IDF1 0.9250, 1 below 0.9, 1 switches on 1 clips, "
@@ -52,7 +42,7 @@ def test_summary_adds_hota_and_the_failing_clips_at_iou_04_when_the_runs_have_th
 
 
 def test_a_file_that_is_not_a_run_is_a_one_line_error(tmp_path):
-    compare = _load("compare_track_runs")
+    compare = load_script("compare_track_runs")
     bad = tmp_path / "bad.json"
     bad.write_text("[1, 2]")
     with pytest.raises(SystemExit, match="is not a bench_track --per-clip-json file"):
@@ -61,7 +51,7 @@ def test_a_file_that_is_not_a_run_is_a_one_line_error(tmp_path):
 
 def test_tracker_config_overrides_take_the_field_types(monkeypatch):
     monkeypatch.syspath_prepend(str(SCRIPTS))  # bench_track imports its neighbour benchdoc
-    bench = _load("bench_track")
+    bench = load_script("bench_track")
     config = bench.parse_tracker_config("reid_from_holder=false, reid_margin=0.25,max_occlusion_frames=90")
     assert config.reid_from_holder is False and config.reid_margin == 0.25 and config.max_occlusion_frames == 90
     assert bench.parse_tracker_config("") == bench.MultiTrackerConfig()
@@ -72,7 +62,7 @@ def test_tracker_config_overrides_take_the_field_types(monkeypatch):
 
 def test_miss_cause_table_gives_each_cause_its_share_of_all_dancer_frames(monkeypatch):
     monkeypatch.syspath_prepend(str(SCRIPTS))
-    bench = _load("bench_track")
+    bench = load_script("bench_track")
     counts = {("visible", "matched"): 6, ("visible", "extent"): 2, ("partly", "other_dancer"): 1,
               ("hidden", "no_box"): 1}
     lines = bench._miss_cause_table(0.3, counts)

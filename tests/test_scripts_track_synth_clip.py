@@ -1,25 +1,14 @@
 """scripts/track_synth_clip.py: the per-frame table and its bad-input error (tracking itself: bench_track's)."""
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
-
-SCRIPTS = Path(__file__).resolve().parents[1] / "scripts"
-
-
-def _load():
-    spec = importlib.util.spec_from_file_location("track_synth_clip", SCRIPTS / "track_synth_clip.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+from script_loader import load_script
 
 
 def test_frame_table_names_the_tracked_dancer_on_each_truth():
     """Dancer 0's truth is covered by its own box, dancer 1's by dancer 0's box (its own is elsewhere), dancer 2
     is absent on the second frame."""
-    script = _load()
+    script = load_script("track_synth_clip")
     truth = np.array([[[0, 0, 10, 20], [100, 0, 10, 20], [200, 0, 10, 20]],
                       [[0, 0, 10, 20], [100, 0, 10, 20], [np.nan] * 4]], float)
     tracked = np.array([[[0, 0, 10, 20], [100, 0, 10, 20], [200, 0, 10, 20]],
@@ -33,4 +22,4 @@ def test_frame_table_names_the_tracked_dancer_on_each_truth():
 
 def test_a_folder_that_is_not_a_clip_is_a_one_line_error(tmp_path):
     with pytest.raises(SystemExit, match="is not an hdvr synth clip folder"):
-        _load().main([str(tmp_path), str(tmp_path / "out")])
+        load_script("track_synth_clip").main([str(tmp_path), str(tmp_path / "out")])

@@ -984,7 +984,8 @@ class MultiDancerTracker(ReportedExtent):
         d.tracker.init(frame, self._core(box))
         d.stored_velocity = np.zeros(2)
 
-    def _histogram_matches(self, frame, candidates, rivals, box_rivals=None) -> list[tuple[DancerTrack, tuple, float]]:
+    def _histogram_matches(self, frame, candidates, rivals, box_rivals=None,
+                           histograms: dict | None = None) -> list[tuple[DancerTrack, tuple, float]]:
         """One-to-one matches of dancers to candidate boxes (px) by colour histogram, best first:
         ``candidates`` is a list of (dancer, boxes). A box is taken for its dancer when its histogram correlates
         with the dancer's memory at least ``reid_similarity`` and better by ``reid_margin`` than with the memory of
@@ -992,12 +993,17 @@ class MultiDancerTracker(ReportedExtent):
         ``hidden_front_rival``, the dancer hiding a dancer that still waits to come out from behind it; over a
         dancer that still waits behind the dancer matched, by ``reid_waiting_margin`` only), and when it
         is clear of the boxes taken before (the dancer in front of a group shows whole and is taken first). Returns
-        (dancer, box, similarity) triples."""
+        (dancer, box, similarity) triples. ``histograms``: colour histograms of boxes already computed, by box
+        tuple; each box's is computed once, whatever the number of dancers it is a candidate for."""
         c = self.config
+        histograms = {} if histograms is None else histograms
         options = []
         for d, boxes in candidates:
             for box in boxes:
-                hist = colour_histogram(frame, box)
+                key = tuple(float(v) for v in box)
+                if key not in histograms:
+                    histograms[key] = colour_histogram(frame, box)
+                hist = histograms[key]
                 score = histogram_similarity(hist, d.stored_histogram)
                 if score >= c.reid_similarity:
                     options.append((score, d.dancer_id, box, hist))
@@ -1813,7 +1819,7 @@ class MultiDancerTracker(ReportedExtent):
             for d, box, score in self._histogram_matches(frame, candidates, occluded):
                 self._take(d, box, score, seen_part=True)
                 taken.append(box)
-                self.strays = [(det, n) for det, n in self.strays if det != box]
+                self._forget_person(box)
         # with stray_adrift, any person no tracked dancer takes, seen so long, even on a tracked dancer's body
         people = [det for det, n in self.unclaimed if n >= c.orphan_persist and det not in taken]
         if not c.stray_adrift or not people:
@@ -1822,18 +1828,21 @@ class MultiDancerTracker(ReportedExtent):
         # behind (in a group) while the dancer came out elsewhere; rivals: every dancer whose colours are known
         known = [d for d in self.dancers if d.status != OUT and d.hidden_behind is None
                  and d.stored_histogram is not None]
-        histograms = {det: colour_histogram(frame, det) for det in people}
+        histograms = {det: colour_histogram(frame, det) for det in people}  # shared with _histogram_matches
         candidates = []
-        for d in known:
-            if d.status != TRACKED:
-                continue
+        for d in [o for o in known if o.status == TRACKED]:
             current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
             candidates.append((d, [det for det in people if self._height_fits(d, det) and histogram_similarity(
                 histograms[det], d.stored_histogram) >= current + c.stray_adrift_margin]))
-        for d, box, score in self._histogram_matches(frame, candidates, known):
+        for d, box, score in self._histogram_matches(frame, candidates, known, histograms=histograms):
             self._restart(d, frame, self._feet_hidden(d, box), score)
-            self.strays = [(det, n) for det, n in self.strays if det != box]
-            self.unclaimed = [(det, n) for det, n in self.unclaimed if det != box]
+            self._forget_person(box)
+
+    def _forget_person(self, box) -> None:
+        """A stray person taken by a dancer at ``box`` starts no chain of the next detector frame
+        (``strays``, ``unclaimed``)."""
+        self.strays = [(det, n) for det, n in self.strays if det != box]
+        self.unclaimed = [(det, n) for det, n in self.unclaimed if det != box]
 
     def _handed_over(self, frame, occluded: list[DancerTrack], dets: list, claims: dict[int, int]) -> dict:
         """Detections (x, y, w, h px) that the tracked dancers in ``claims`` (dancer id -> index into ``dets``)
