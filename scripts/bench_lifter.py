@@ -15,8 +15,10 @@ same dancers"), the Indian takes a second test ("unseen style").
 On a GPU (the published size, receptive field 243 and 1024 channels), with the fits made beforehand on a CPU
 machine (``--fits-cache``) and carried over with the converted mocap (``--write-gt-npz``):
 
-    python3 scripts/bench_lifter.py --gt-npz gt.npz --fits-cache fits.npz --cameras 8 --batch-size 256 \
-        --out-frames 32 --window-stride 4 --lr 2e-4 --train-budget-seconds 190
+    python3 scripts/bench_lifter.py --gt-npz gt.npz --fits-cache fits.npz --cameras 8 --batch-size 64 \
+        --out-frames 32 --window-stride 4 --lr 1e-3 --flip-test --train-budget-seconds 350
+
+(Session 48: many small steps; batch 256 learnt far less in the same time, docs/benchmarks.md "Lifter".)
 
 ``--gt-npz`` reads pre-converted mocap (``--write-gt-npz`` writes it) for machines without ../shared.
 ``--fits-cache FILE`` keeps the fitted views of step 1 (the slow part) for further lifter runs with the same
@@ -162,8 +164,8 @@ def main() -> int:
                         "or 3,3,3 with --small)")
     parser.add_argument("--channels", type=int, default=None, help="channels of the lifter (default 1024; 256 "
                         "with --small)")
-    parser.add_argument("--batch-size", type=int, default=None, help="windows per step (default: 256 on a GPU, "
-                        "64 on the CPU)")
+    parser.add_argument("--batch-size", type=int, default=None, help="windows per step (default 64, on a GPU too: "
+                        "many small steps learn more than few large ones)")
     parser.add_argument("--lr", type=float, default=1e-3)
     parser.add_argument("--root", choices=("learned", "solved"), default="solved",
                         help="the root's position: a second network, or solved from the pose and the 2D")
@@ -234,7 +236,7 @@ def main() -> int:
     model_cfg.root = args.root
     model_cfg.centre_inputs = not args.raw_inputs
     device = str(pick_device(args.device))
-    cfg = TrainConfig(epochs=args.epochs, batch_size=args.batch_size or (256 if device == "cuda" else 64),
+    cfg = TrainConfig(epochs=args.epochs, batch_size=args.batch_size or 64,
                       learning_rate=args.lr, lr_decay=args.lr_decay, max_seconds=args.max_train_seconds,
                       mixed_precision=args.mixed_precision, device=device, out_frames=args.out_frames,
                       window_stride=args.window_stride)
