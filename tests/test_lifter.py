@@ -140,6 +140,27 @@ def test_lift_cli_train_and_apply(tmp_path):
     assert flipped.shape == (60, 25, 3) and not np.allclose(flipped, out.keypoints3d)
 
 
+def test_lift_train_takes_32_windows_per_step_on_the_cpu_and_64_on_a_gpu(tmp_path):
+    """Without --batch-size: 32 on the CPU (recorded in the checkpoint), 64 on a GPU (measured best on each)."""
+    from hdvr.cli import main
+    from hdvr.commands.lift import default_batch_size
+    from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
+    from hdvr.io.result3d import Result3D, save_result3d
+    from hdvr.lifter.train import load_checkpoint
+
+    assert default_batch_size("cpu") == 32 and default_batch_size("cuda") == 64 and default_batch_size("cuda:1") == 64
+    clip = _toy_clips(1, frames=80)
+    px = clip.inputs.copy()
+    px[..., :2] = px[..., :2] * 1000.0 + np.array([640, 360])
+    save_keypoints2d(tmp_path / "kp.npz", Keypoints2D(px, BODY25_NAMES, 30.0, (1280, 720)))
+    q = np.zeros((80, 41))
+    q[:, 3] = 1
+    save_result3d(tmp_path / "fit.npz", Result3D(clip.fit3d, q, 1000.0, (640, 360), np.ones(9), np.zeros(80)))
+    assert main(["lift", "train", "--pair", str(tmp_path / "kp.npz"), str(tmp_path / "fit.npz"),
+                 "--out", str(tmp_path / "m.pt"), "--epochs", "1", "--small", "--device", "cpu"]) == 0
+    assert load_checkpoint(tmp_path / "m.pt")[1]["train"]["batch_size"] == 32
+
+
 def test_solved_root_translation_places_the_pose_on_the_2d():
     gen = torch.Generator().manual_seed(0)
     rel = 0.3 * torch.randn(2, 4, 25, 3, generator=gen)
