@@ -115,18 +115,25 @@ def test_training_reduces_error_and_checkpoint_round_trip(tmp_path):
         load_checkpoint(tmp_path / "missing.pt")
 
 
-def test_lift_cli_train_and_apply(tmp_path):
-    from hdvr.cli import main
+def _write_toy_pair(folder, frames: int) -> None:
+    """A toy clip's 2D keypoints (pixels, 1280x720) and its 3D fit, as ``kp.npz`` and ``fit.npz`` in ``folder``."""
     from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
-    from hdvr.io.result3d import Result3D, load_result3d, save_result3d
+    from hdvr.io.result3d import Result3D, save_result3d
 
-    clip = _toy_clips(1, frames=60)
+    clip = _toy_clips(1, frames=frames)
     px = clip.inputs.copy()
     px[..., :2] = px[..., :2] * 1000.0 + np.array([640, 360])
-    save_keypoints2d(tmp_path / "kp.npz", Keypoints2D(px, BODY25_NAMES, 30.0, (1280, 720)))
-    q = np.zeros((60, 41))
+    save_keypoints2d(folder / "kp.npz", Keypoints2D(px, BODY25_NAMES, 30.0, (1280, 720)))
+    q = np.zeros((frames, 41))
     q[:, 3] = 1
-    save_result3d(tmp_path / "fit.npz", Result3D(clip.fit3d, q, 1000.0, (640, 360), np.ones(9), np.zeros(60)))
+    save_result3d(folder / "fit.npz", Result3D(clip.fit3d, q, 1000.0, (640, 360), np.ones(9), np.zeros(frames)))
+
+
+def test_lift_cli_train_and_apply(tmp_path):
+    from hdvr.cli import main
+    from hdvr.io.result3d import load_result3d
+
+    _write_toy_pair(tmp_path, 60)
     assert main(["lift", "train", "--pair", str(tmp_path / "kp.npz"), str(tmp_path / "fit.npz"),
                  "--out", str(tmp_path / "m.pt"), "--epochs", "2", "--small", "--device", "cpu",
                  "--batch-size", "32", "--max-minutes", "5"]) == 0
@@ -144,18 +151,10 @@ def test_lift_train_takes_32_windows_per_step_on_the_cpu_and_64_on_a_gpu(tmp_pat
     """Without --batch-size: 32 on the CPU (recorded in the checkpoint), 64 on a GPU (measured best on each)."""
     from hdvr.cli import main
     from hdvr.commands.lift import default_batch_size
-    from hdvr.io.keypoints2d import Keypoints2D, save_keypoints2d
-    from hdvr.io.result3d import Result3D, save_result3d
     from hdvr.lifter.train import load_checkpoint
 
     assert default_batch_size("cpu") == 32 and default_batch_size("cuda") == 64 and default_batch_size("cuda:1") == 64
-    clip = _toy_clips(1, frames=80)
-    px = clip.inputs.copy()
-    px[..., :2] = px[..., :2] * 1000.0 + np.array([640, 360])
-    save_keypoints2d(tmp_path / "kp.npz", Keypoints2D(px, BODY25_NAMES, 30.0, (1280, 720)))
-    q = np.zeros((80, 41))
-    q[:, 3] = 1
-    save_result3d(tmp_path / "fit.npz", Result3D(clip.fit3d, q, 1000.0, (640, 360), np.ones(9), np.zeros(80)))
+    _write_toy_pair(tmp_path, 80)
     assert main(["lift", "train", "--pair", str(tmp_path / "kp.npz"), str(tmp_path / "fit.npz"),
                  "--out", str(tmp_path / "m.pt"), "--epochs", "1", "--small", "--device", "cpu"]) == 0
     assert load_checkpoint(tmp_path / "m.pt")[1]["train"]["batch_size"] == 32
