@@ -4,7 +4,8 @@ start offset (hdvr.tracking.hindsight)."""
 import numpy as np
 import pytest
 
-from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, START_OFFSET_WEIGHT, apply_hindsight, enclose_keypoints,
+from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, START_OFFSET_WEIGHT, HindsightSettings, apply_hindsight,
+                                     enclose_keypoints,
                                      fill_occluded, hold_last_seen, interpolate_boxes, keep_start_offset,
                                      occluded_stretches, smooth_boxes, start_offsets, trim_above_pose)
 
@@ -198,7 +199,7 @@ def test_a_pose_that_does_not_fit_the_box_is_someone_else_s():
     out, widened = enclose_keypoints(boxes, [("tracked",)] * 3, np.stack([beside, taller, raised])[:, None])
     np.testing.assert_array_equal(out[:2], boxes[:2])
     np.testing.assert_array_equal(widened[:, 0], [False, False, True])
-    np.testing.assert_allclose(out[2, 0], [100 - 30 - 6, 50, 76, 100])
+    np.testing.assert_allclose(out[2, 0], [100 - 30 - 8, 50, 78, 100])  # the default reach: 0.08 x 100 px
 
 
 def test_a_widened_box_stays_inside_the_frame():
@@ -376,6 +377,24 @@ def test_apply_hindsight_keeps_a_hidden_start_s_offset_after_the_other_steps():
     np.testing.assert_array_equal(filled, filled_too)
     np.testing.assert_allclose(kept, keep_start_offset(plain, status, {(1, 0): (0, 0.2)}, START_OFFSET_WEIGHT))
     assert np.abs(kept[:8, 1, 0] - plain[:8, 1, 0]).max() > 1.0
+
+
+def test_apply_hindsight_takes_its_steps_settings():
+    """The default settings are the module's; other settings reach their steps (a start-offset weight of 0 moves
+    nothing, a weight of 1 moves the hidden dancer all the way to its start offset)."""
+    boxes, status = _stack()
+    keypoints = np.full(boxes.shape[:2] + (25, 3), np.nan)
+    keypoints[..., 2] = 0
+    default = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)])[0]
+    np.testing.assert_array_equal(default, apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
+                                                           settings=HindsightSettings())[0])
+    plain = apply_hindsight(boxes, status, keypoints)[0]
+    none = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
+                           settings=HindsightSettings(start_offset_weight=0.0))[0]
+    np.testing.assert_allclose(none, plain)
+    full = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
+                           settings=HindsightSettings(start_offset_weight=1.0))[0]
+    np.testing.assert_allclose(full, keep_start_offset(plain, status, {(1, 0): (0, 0.2)}, 1.0))
 
 
 def test_a_dancer_hidden_again_from_a_later_start_keeps_the_offset_of_that_start():

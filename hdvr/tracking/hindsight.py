@@ -32,8 +32,7 @@ or with a switch 51 -> 45, mean 0.9807 -> 0.9814; hdvr synth seed 712 hip-hop qu
 :func:`enclose_keypoints`: each box of a dancer seen (``tracked``) is widened, left and right, to enclose the
 keypoints written for it (those of the pose Algorithm 2* chose, interpolated between detector frames), plus
 ``reach`` x the box height for the body beyond its outermost joints (the hand beyond the wrist, the foot beyond the
-ankle, the limb's own thickness: about 0.1 m of a 1.7 m dancer, 0.06 of a box about 1.9 m tall at the dancer's
-depth). While a dancer overlaps others its tracked box keeps the size it had when clear, and the detector's person
+ankle, the limb's own thickness; a hand alone is about 0.1 of a person's height). While a dancer overlaps others its tracked box keeps the size it had when clear, and the detector's person
 box often leaves out a spread arm or a raised leg that its keypoints show, so the written box would miss part of
 the written skeleton. Only a pose that fits the box counts: its torso (neck, shoulders, hips) lies between the box's
 sides and all its keypoints within the box's height, give or take ``height_margin`` (Algorithm 2* sometimes gives a
@@ -74,6 +73,7 @@ Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dance
 from __future__ import annotations
 
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.ndimage import uniform_filter1d
@@ -85,8 +85,12 @@ from hdvr.tracking.state import HIDDEN, OCCLUDED, TRACKED
 #: (chosen on 936 hdvr synth clips: 3 and 5 frames gave 67 and 68 clips below IDF1 0.9 or with a switch, 72 without
 #: hindsight; docs/benchmarks.md "session 31")
 MIN_SEEN_AFTER = 3
-#: how far a dancer's body reaches beyond its outermost keypoint, in box heights (:func:`enclose_keypoints`)
-KEYPOINT_REACH = 0.06
+#: how far a dancer's body reaches beyond its outermost keypoint, in box heights (:func:`enclose_keypoints`). Measured
+#: (``scripts/measure_keypoint_reach.py``): on dancers of hdvr synth clips seen whole, the ground-truth box's sides lie
+#: beyond YOLO11n-pose's outermost keypoints by a median 0.08 of its height (quartiles 0.07 and 0.11; 10,739
+#: dancer-frames of the 144 clips of seeds 201-212 and 301-312). Sessions 32-47 used 0.06, an estimate; 504 synthetic
+#: clips: failing 23 -> 22, mean IDF1 0.9849 -> 0.9854, HOTA 0.7934 -> 0.7953 (docs/benchmarks.md "session 48")
+KEYPOINT_REACH = 0.08
 #: keypoint confidence from which a keypoint widens its dancer's box
 MIN_KEYPOINT_CONFIDENCE = 0.3
 #: keypoints of that confidence a dancer needs in a frame for its box to be widened to them
@@ -342,18 +346,33 @@ def keep_start_offset(boxes: np.ndarray, status, offsets: dict[tuple[int, int], 
     return out
 
 
+@dataclass(frozen=True)
+class HindsightSettings:
+    """The settings of :func:`apply_hindsight`'s steps, the module's defaults unless given (for measuring others on
+    runs already tracked, ``scripts/hindsight_runs.py``). ``keypoint_reach`` and ``head_reach`` in box heights,
+    ``smooth_window`` and ``min_seen_after`` in frames, ``start_offset_weight`` a fraction."""
+
+    min_seen_after: int = MIN_SEEN_AFTER
+    keypoint_reach: float = KEYPOINT_REACH
+    head_reach: float = HEAD_REACH
+    smooth_window: int = SMOOTH_WINDOW
+    start_offset_weight: float = START_OFFSET_WEIGHT
+
+
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
-                    hidden_starts=()) -> tuple[np.ndarray, np.ndarray]:
+                    hidden_starts=(), settings: HindsightSettings | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The boxes ``hdvr track`` writes, from the online tracker's ``boxes`` (T, N, 4) px, ``status``, the
     ``keypoints`` (T, N, 25, 3) written for each dancer and the dancers that start hidden behind another
     (``hidden_starts``: (frame, dancer, dancer in front) triples): :func:`fill_occluded`, :func:`hold_last_seen`,
     :func:`enclose_keypoints` (no wider than ``frame_width`` px), :func:`trim_above_pose`, :func:`smooth_boxes`,
-    :func:`keep_start_offset` (with the start offsets of the online boxes), in that order, with their default
-    settings. Returns the boxes and the (T, N) bool mask of the frames filled."""
+    :func:`keep_start_offset` (with the start offsets of the online boxes), in that order, with ``settings``
+    (default: :class:`HindsightSettings`, the module's). Returns the boxes and the (T, N) bool mask of the frames
+    filled."""
+    s = settings or HindsightSettings()
     offsets = start_offsets(boxes, hidden_starts)
-    boxes, filled = fill_occluded(boxes, status)
+    boxes, filled = fill_occluded(boxes, status, min_seen_after=s.min_seen_after)
     boxes = hold_last_seen(boxes, status, filled)[0]
-    boxes = enclose_keypoints(boxes, status, keypoints, frame_width=frame_width)[0]
-    boxes = trim_above_pose(boxes, status, keypoints)[0]
-    boxes = smooth_boxes(boxes, status)
-    return keep_start_offset(boxes, status, offsets), filled
+    boxes = enclose_keypoints(boxes, status, keypoints, reach=s.keypoint_reach, frame_width=frame_width)[0]
+    boxes = trim_above_pose(boxes, status, keypoints, reach=s.head_reach)[0]
+    boxes = smooth_boxes(boxes, status, window=s.smooth_window)
+    return keep_start_offset(boxes, status, offsets, weight=s.start_offset_weight), filled

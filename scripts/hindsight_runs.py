@@ -1,0 +1,197 @@
+#!/usr/bin/env python3
+"""Measure hindsight settings on synthetic clips tracked once: the online tracker's runs kept, hindsight scored on them.
+
+Hindsight (:mod:`hdvr.tracking.hindsight`) runs after the online tracker and never changes it, so a setting of it
+can be scored on runs kept from one tracking pass, in seconds per setting for 504 clips instead of the 20 minutes of
+``bench_track.py --sections synth``, and without the chaos of online changes (a start box moved by 0.01 px can move a
+clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings the scores are exactly those of
+``bench_track.py --sections synth --synth-thresholds 0.3`` (same clips, same detector, same starts).
+
+    # track each clip once (YOLO11n-pose at 480 px every 3rd frame, as the benchmark), hindsight off
+    python3 scripts/hindsight_runs.py save --clips-dir CLIPS --seeds 201,202 --runs RUNS
+    # score hindsight settings on the kept runs
+    python3 scripts/hindsight_runs.py score --clips-dir CLIPS --runs RUNS [--set keypoint_reach=0.1 ...] \\
+        [--per-clip-json F.json]
+
+CLIPS holds ``synth-SEED/clip_0000I`` folders as ``bench_track.py --clips-dir`` writes them (rendered here when
+missing); RUNS one ``SEED_INDEX.npz`` per clip (keys: boxes, status, keypoints, order, hidden_starts, width).
+``--set`` takes the fields of :class:`hdvr.tracking.hindsight.HindsightSettings`. ``--per-clip-json`` writes the
+format of ``bench_track.py --per-clip-json``, for ``scripts/compare_track_runs.py``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import statistics
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_track import (SYNTH_CLIPS, TrackingModel, _seen_truth, _starts_from_truth,  # noqa: E402
+                         track_synth_clip, tracking_detector)
+
+from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
+from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight  # noqa: E402
+
+RUN_KEYS = ("boxes", "status", "keypoints", "order", "hidden_starts", "width")
+
+
+def clip_folder(clips_dir: Path, seed: int, index: int) -> Path:
+    """The folder of clip ``index`` of seed ``seed`` under ``clips_dir`` (``bench_track.py --clips-dir`` layout)."""
+    return clips_dir / f"synth-{seed}" / f"clip_{index:05d}"
+
+
+def save_run(path: Path, run, order) -> None:
+    """Keep what hindsight needs of a ``track_video(..., hindsight=False)`` run (``TrackRun``), with the dancers'
+    ``order`` (written id -> ground-truth index, as ``bench_track``'s starts), in NPZ ``path`` (written atomically)."""
+    tmp = path.with_name(path.stem + ".part.npz")
+    np.savez_compressed(tmp, boxes=run.boxes, status=np.array(run.status, dtype="U10").reshape(run.boxes.shape[:2]),
+                        keypoints=run.keypoints, order=np.asarray(order, int),
+                        hidden_starts=np.array(run.hidden_starts, int).reshape(-1, 3), width=float(run.size[0]))
+    tmp.replace(path)
+
+
+def load_run(path: Path) -> dict:
+    """A run kept by :func:`save_run`: its arrays, with ``status`` as T tuples of N strings and ``hidden_starts``
+    as (frame, dancer, front) tuples."""
+    try:
+        with np.load(path) as data:
+            run = {k: data[k] for k in RUN_KEYS}
+    except (OSError, ValueError, KeyError) as exc:
+        raise SystemExit(f"hindsight_runs: {path} is not a kept run ({type(exc).__name__}: {exc})")
+    run["status"] = [tuple(str(s) for s in row) for row in run["status"]]
+    run["hidden_starts"] = [tuple(int(v) for v in row) for row in run["hidden_starts"]]
+    return run
+
+
+def score_run(run: dict, truth_boxes: np.ndarray, settings: HindsightSettings) -> dict:
+    """IDF1, switches, MOTA and HOTA at IoU 0.5 and IDF1 and switches at IoU 0.4 of a kept run (:func:`load_run`)
+    after hindsight with ``settings``, against (T, N, 4) px ground-truth boxes."""
+    boxes = apply_hindsight(run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
+                            hidden_starts=run["hidden_starts"], settings=settings)[0]
+    tracked = boxes[:, np.argsort(run["order"])]
+    strict, loose = evaluate_tracking(truth_boxes, tracked), evaluate_tracking(truth_boxes, tracked, iou_threshold=0.4)
+    return {"dancers": int(truth_boxes.shape[1]), "idf1": strict.idf1, "id_switches": strict.id_switches,
+            "hidden_starts": len(run["hidden_starts"]), "mota": strict.mota, "hota": strict.hota,
+            "idf1_iou04": loose.idf1, "id_switches_iou04": loose.id_switches}
+
+
+def failing(score: dict, iou04: bool = False) -> bool:
+    """The issue's target missed: IDF1 below 0.9 or an identity switch (at IoU 0.4 with ``iou04``)."""
+    if iou04:
+        return score["idf1_iou04"] < 0.9 or score["id_switches_iou04"] > 0
+    return score["idf1"] < 0.9 or score["id_switches"] > 0
+
+
+def summary(scores: dict[str, dict]) -> str:
+    """One line: clips, mean IDF1 and HOTA, clips below 0.9, switches (clips), failing, failing at IoU 0.4."""
+    rows = list(scores.values())
+    return (f"{len(rows)} clips: mean IDF1 {statistics.fmean(r['idf1'] for r in rows):.4f}, "
+            f"HOTA {statistics.fmean(r['hota'] for r in rows):.4f}, below 0.9 {sum(r['idf1'] < 0.9 for r in rows)}, "
+            f"switches {sum(r['id_switches'] for r in rows)} ({sum(r['id_switches'] > 0 for r in rows)} clips), "
+            f"failing {sum(failing(r) for r in rows)}, failing at IoU 0.4 {sum(failing(r, True) for r in rows)}")
+
+
+def parse_settings(pairs: list[str]) -> HindsightSettings:
+    """:class:`HindsightSettings` with ``NAME=VALUE`` overrides; a clear error for an unknown name or bad value."""
+    fields = {f.name: f.type for f in dataclasses.fields(HindsightSettings)}
+    values = {}
+    for pair in pairs:
+        name, _, value = pair.partition("=")
+        if name not in fields:
+            raise SystemExit(f"hindsight_runs: unknown setting {name!r} (known: {', '.join(fields)})")
+        try:
+            values[name] = int(value) if fields[name] in (int, "int") else float(value)
+        except ValueError:
+            raise SystemExit(f"hindsight_runs: setting {name} needs a number, got {value!r}")
+    return HindsightSettings(**values)
+
+
+def _seeds(text: str) -> list[int]:
+    """Comma-separated integers (seeds or clip indices)."""
+    try:
+        return [int(s) for s in text.split(",") if s]
+    except ValueError:
+        raise SystemExit(f"hindsight_runs: --seeds and --clips take comma-separated integers, got {text!r}")
+
+
+def save(args) -> int:
+    from hdvr.pipeline import WEAK_DETECTION_THRESHOLD
+    from hdvr.pose2d.models import default_pose_model
+    from hdvr.synth.groundtruth import ClipSpec, make_clip
+
+    args.runs.mkdir(parents=True, exist_ok=True)
+    detector = tracking_detector(TrackingModel(default_pose_model(), WEAK_DETECTION_THRESHOLD, False))
+    seeds = _seeds(args.seeds)
+    indices = _seeds(args.clips) if args.clips else list(range(len(SYNTH_CLIPS)))
+    if any(not 0 <= i < len(SYNTH_CLIPS) for i in indices):
+        raise SystemExit(f"hindsight_runs: --clips takes indices 0-{len(SYNTH_CLIPS) - 1}, got {args.clips!r}")
+    total, done = len(seeds) * len(indices), 0
+    for seed in seeds:
+        for index in indices:
+            genre, n = SYNTH_CLIPS[index]
+            clip = clip_folder(args.clips_dir, seed, index)
+            if not (clip / "gt.npz").is_file() or not (clip / "video.mp4").is_file():
+                make_clip(clip.parent, ClipSpec(index, seed, genre, n, args.seconds), render=True)
+            truth_boxes, _ = _seen_truth(clip)
+            order, starts = _starts_from_truth(truth_boxes)
+            run = track_synth_clip(clip, args.runs / "work", detector, starts, hindsight=False)
+            save_run(args.runs / f"{seed}_{index}.npz", run, order)
+            done += 1
+            print(f"\r{done}/{total} clips tracked", end="", file=sys.stderr, flush=True)
+    print(file=sys.stderr)
+    return 0
+
+
+def score(args) -> int:
+    settings = parse_settings(args.set or [])
+    paths = sorted(args.runs.glob("*_*.npz"), key=lambda p: tuple(int(v) for v in p.stem.split("_")))
+    if not paths:
+        raise SystemExit(f"hindsight_runs: no kept runs (SEED_INDEX.npz) in {args.runs}")
+    scores = {}
+    for path in paths:
+        seed, index = (int(v) for v in path.stem.split("_"))
+        clip = clip_folder(args.clips_dir, seed, index)
+        if not (clip / "gt.npz").is_file():
+            raise SystemExit(f"hindsight_runs: no ground truth for run {path.name}: {clip / 'gt.npz'} is missing")
+        truth_boxes, _ = _seen_truth(clip)
+        scores[f"{seed}:{index}:0.3"] = {"genre": SYNTH_CLIPS[index][0],
+                                         **score_run(load_run(path), truth_boxes, settings)}
+    print(f"{dataclasses.asdict(settings)}")
+    print(summary(scores))
+    print("failing: " + " ".join(f"{k.rsplit(':', 1)[0]} {v['idf1']:.3f}/{v['id_switches']}"
+                                 for k, v in scores.items() if failing(v)))
+    if args.per_clip_json:
+        tmp = args.per_clip_json.with_name(args.per_clip_json.name + ".part")
+        tmp.write_text(json.dumps({"hindsight": dataclasses.asdict(settings), "clips": scores}, indent=1))
+        tmp.replace(args.per_clip_json)
+    return 0
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    sv = sub.add_parser("save", help="track clips once with hindsight off and keep the runs")
+    sv.add_argument("--clips-dir", type=Path, required=True)
+    sv.add_argument("--seeds", required=True, help="comma-separated seeds (6 clips each, bench_track's SYNTH_CLIPS)")
+    sv.add_argument("--runs", type=Path, required=True, help="folder for the kept runs")
+    sv.add_argument("--clips", help="comma-separated clip indices per seed (default all: "
+                    + ", ".join(f"{i} {g} {n}" for i, (g, n) in enumerate(SYNTH_CLIPS)) + ")")
+    sv.add_argument("--seconds", type=float, default=4.0, help="length of clips rendered here (benchmark: 4)")
+    sv.set_defaults(func=save)
+    sc = sub.add_parser("score", help="score hindsight settings on kept runs")
+    sc.add_argument("--clips-dir", type=Path, required=True)
+    sc.add_argument("--runs", type=Path, required=True)
+    sc.add_argument("--set", action="append", metavar="NAME=VALUE", help="a HindsightSettings field (repeatable)")
+    sc.add_argument("--per-clip-json", type=Path, help="write per-clip scores here (bench_track's format)")
+    sc.set_defaults(func=score)
+    args = parser.parse_args(argv)
+    return args.func(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,119 @@
+"""scripts/hindsight_runs.py: kept runs scored with hindsight settings, the settings parsed, bad input; and one real
+clip tracked, kept and scored as the benchmark scores it."""
+
+import json
+import numpy as np
+import pytest
+from script_loader import load_script
+
+from hdvr.tracking.hindsight import HindsightSettings
+
+
+def _kept_run(folder, name="7_0"):
+    """A kept run of two dancers over 12 frames: dancer 0 seen throughout, dancer 1 occluded on frames 4-7 with a
+    box left where it was; its ground truth moves steadily right, 5 px a frame."""
+    frames = 12
+    truth = np.zeros((frames, 2, 4))
+    truth[:, 0] = [100, 50, 40, 100]
+    truth[:, 1] = np.stack([200 + 5 * np.arange(frames), np.full(frames, 60.0), np.full(frames, 40.0),
+                            np.full(frames, 100.0)], axis=1)
+    boxes = truth.copy()
+    boxes[4:8, 1] = truth[3, 1]
+    status = np.array([["tracked", "occluded" if 4 <= t < 8 else "tracked"] for t in range(frames)])
+    keypoints = np.full((frames, 2, 25, 3), np.nan)
+    keypoints[..., 2] = 0
+    np.savez(folder / f"{name}.npz", boxes=boxes, status=status, keypoints=keypoints, order=np.array([0, 1]),
+             hidden_starts=np.zeros((0, 3), int), width=640.0)
+    return truth
+
+
+def _clip_with_truth(clips_dir, truth, seed=7, index=0):
+    clip = clips_dir / f"synth-{seed}" / f"clip_{index:05d}"
+    clip.mkdir(parents=True)
+    frames, n = truth.shape[:2]
+    np.savez(clip / "gt.npz", boxes=np.transpose(truth, (1, 0, 2)), keypoints2d=np.zeros((n, frames, 25, 2)),
+             visibility=np.full((n, frames, 25), 2))
+    return clip
+
+
+def test_a_kept_run_scores_with_hindsight_filling_the_occluded_stretch(tmp_path, capsys):
+    script = load_script("hindsight_runs")
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    truth = _kept_run(runs)
+    _clip_with_truth(tmp_path / "clips", truth)
+    out = tmp_path / "scores.json"
+    assert script.main(["score", "--clips-dir", str(tmp_path / "clips"), "--runs", str(runs),
+                        "--per-clip-json", str(out)]) == 0
+    scores = json.loads(out.read_text())
+    assert scores["hindsight"]["keypoint_reach"] == HindsightSettings().keypoint_reach
+    clip = scores["clips"]["7:0:0.3"]
+    assert clip["idf1"] == 1.0 and clip["id_switches"] == 0  # the filled stretch follows the dancer
+    assert "1 clips: mean IDF1 1.0000" in capsys.readouterr().out
+    # without hindsight the held box falls behind the moving dancer: the kept boxes themselves score lower
+    run = script.load_run(runs / "7_0.npz")
+    from hdvr.tracking.evaluation import evaluate_tracking
+    assert evaluate_tracking(truth, run["boxes"]).idf1 < 1.0
+
+
+def test_settings_are_parsed_with_clear_errors():
+    script = load_script("hindsight_runs")
+    s = script.parse_settings(["keypoint_reach=0.1", "smooth_window=13"])
+    assert s == HindsightSettings(keypoint_reach=0.1, smooth_window=13) and isinstance(s.smooth_window, int)
+    with pytest.raises(SystemExit, match="unknown setting 'reach'"):
+        script.parse_settings(["reach=0.1"])
+    with pytest.raises(SystemExit, match="needs a number"):
+        script.parse_settings(["keypoint_reach=wide"])
+
+
+def test_failing_and_summary_count_the_issue_target():
+    script = load_script("hindsight_runs")
+    ok = {"idf1": 0.95, "id_switches": 0, "hota": 0.8, "idf1_iou04": 0.97, "id_switches_iou04": 0}
+    switched = dict(ok, id_switches=1)
+    low = dict(ok, idf1=0.85, idf1_iou04=0.92)
+    assert [script.failing(r) for r in (ok, switched, low)] == [False, True, True]
+    assert script.failing(low, iou04=True) is False
+    line = script.summary({"a": ok, "b": switched, "c": low})
+    assert "3 clips" in line and "failing 2," in line and "below 0.9 1" in line and "switches 1 (1 clips)" in line
+
+
+def test_bad_runs_and_missing_truth_are_one_line_errors(tmp_path):
+    script = load_script("hindsight_runs")
+    with pytest.raises(SystemExit, match="no kept runs"):
+        script.main(["score", "--clips-dir", str(tmp_path), "--runs", str(tmp_path)])
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    _kept_run(runs)
+    with pytest.raises(SystemExit, match="no ground truth for run 7_0.npz"):
+        script.main(["score", "--clips-dir", str(tmp_path / "none"), "--runs", str(runs)])
+    (runs / "7_0.npz").write_bytes(b"not an npz")
+    with pytest.raises(SystemExit, match="is not a kept run"):
+        script.load_run(runs / "7_0.npz")
+
+
+def test_a_real_clip_kept_and_scored_gives_the_benchmark_s_figures(tmp_path, capsys):
+    """One rendered 1-second two-dancer clip (index 1, swing): tracked once with hindsight off by ``save`` and
+    scored with the default settings by ``score``, it gives what the benchmark's own tracking, hindsight on, gives."""
+    script = load_script("hindsight_runs")
+    from bench_track import TrackingModel, _seen_truth, _starts_from_truth, track_synth_clip, tracking_detector
+
+    from hdvr.pipeline import WEAK_DETECTION_THRESHOLD
+    from hdvr.pose2d.models import default_pose_model
+    from hdvr.tracking.evaluation import evaluate_tracking
+
+    clips, runs, out = tmp_path / "clips", tmp_path / "runs", tmp_path / "scores.json"
+    assert script.main(["save", "--clips-dir", str(clips), "--seeds", "5", "--clips", "1", "--runs", str(runs),
+                        "--seconds", "1"]) == 0
+    assert sorted(p.name for p in runs.glob("*.npz")) == ["5_1.npz"]
+    assert script.main(["score", "--clips-dir", str(clips), "--runs", str(runs), "--per-clip-json", str(out)]) == 0
+    kept = json.loads(out.read_text())["clips"]["5:1:0.3"]
+    clip = script.clip_folder(clips, 5, 1)
+    truth_boxes, _ = _seen_truth(clip)
+    order, starts = _starts_from_truth(truth_boxes)
+    detector = tracking_detector(TrackingModel(default_pose_model(), WEAK_DETECTION_THRESHOLD, False))
+    direct = track_synth_clip(clip, tmp_path / "work", detector, starts, hindsight=True)
+    expect = evaluate_tracking(truth_boxes, direct.boxes[:, np.argsort(order)])
+    assert kept["idf1"] == pytest.approx(expect.idf1) and kept["id_switches"] == expect.id_switches
+    assert kept["hota"] == pytest.approx(expect.hota)
+    with pytest.raises(SystemExit, match="--clips takes indices"):
+        script.main(["save", "--clips-dir", str(clips), "--seeds", "5", "--clips", "9", "--runs", str(runs)])
