@@ -401,20 +401,28 @@ CROWD_GENRES = ("ballet", "hip_hop", "flamenco", "tap")  # group genres rendered
 
 def parse_tracker_config(text: str) -> MultiTrackerConfig:
     """MultiTrackerConfig with the fields named in ``text`` ("name=value,name=value") changed; a value takes the
-    type of the field's default (booleans: true/false/1/0)."""
+    type of the field's default (booleans: true/false/1/0); a field that may be None (a test that can be switched
+    off) also takes none."""
     config = MultiTrackerConfig()
+    fields = {f.name: f for f in dataclasses.fields(MultiTrackerConfig)}
     changes = {}
     for item in filter(None, (v.strip() for v in text.split(","))):
         name, sep, value = item.partition("=")
         if not sep or not hasattr(config, name):
             raise SystemExit(f"bench_track: --tracker-config: {item!r} is not FIELD=VALUE of MultiTrackerConfig")
         default = getattr(config, name)
-        if isinstance(default, bool):
+        optional = "None" in str(fields[name].type)
+        if optional and value.lower() == "none":  # a test that can be switched off
+            changes[name] = None
+        elif isinstance(default, bool):
             if value.lower() not in ("true", "false", "1", "0"):
                 raise SystemExit(f"bench_track: --tracker-config: {name} takes true or false, got {value!r}")
             changes[name] = value.lower() in ("true", "1")
-        elif isinstance(default, (int, float)):
-            changes[name] = type(default)(value)
+        elif isinstance(default, (int, float)) or (default is None and optional):
+            try:
+                changes[name] = float(value) if default is None else type(default)(value)
+            except ValueError:
+                raise SystemExit(f"bench_track: --tracker-config: {name} takes a number, got {value!r}") from None
         else:
             raise SystemExit(f"bench_track: --tracker-config: {name} cannot be set from the command line")
     return dataclasses.replace(config, **changes)

@@ -55,7 +55,11 @@ def test_tracker_config_overrides_take_the_field_types(monkeypatch):
     config = bench.parse_tracker_config("reid_from_holder=false, reid_margin=0.25,max_occlusion_frames=90")
     assert config.reid_from_holder is False and config.reid_margin == 0.25 and config.max_occlusion_frames == 90
     assert bench.parse_tracker_config("") == bench.MultiTrackerConfig()
-    for bad in ("no_such_rule=1", "reid_from_holder", "reid_from_holder=maybe"):
+    # a test that may be None takes a number or none; a plain number field does not take none
+    assert bench.parse_tracker_config("own_box_max_shift=none").own_box_max_shift is None
+    assert bench.parse_tracker_config("own_box_max_shift=0.3").own_box_max_shift == 0.3
+    for bad in ("no_such_rule=1", "reid_from_holder", "reid_from_holder=maybe", "reid_margin=none",
+                "max_occlusion_frames=many"):
         with pytest.raises(SystemExit, match="--tracker-config"):
             bench.parse_tracker_config(bad)
 
