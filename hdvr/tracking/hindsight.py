@@ -32,16 +32,17 @@ or with a switch 51 -> 45, mean 0.9807 -> 0.9814; hdvr synth seed 712 hip-hop qu
 :func:`enclose_keypoints`: each box of a dancer seen (``tracked``) is widened, left and right, to enclose the
 keypoints written for it (those of the pose Algorithm 2* chose, interpolated between detector frames), plus
 ``reach`` x the box height for the body beyond its outermost joints (the hand beyond the wrist, the foot beyond the
-ankle, the limb's own thickness; a hand alone is about 0.1 of a person's height). While a dancer overlaps others its tracked box keeps the size it had when clear, and the detector's person
-box often leaves out a spread arm or a raised leg that its keypoints show, so the written box would miss part of
-the written skeleton. Only a pose that fits the box counts: its torso (neck, shoulders, hips) lies between the box's
-sides and all its keypoints within the box's height, give or take ``height_margin`` (Algorithm 2* sometimes gives a
-dancer behind another the pose of the one in front: hdvr synth seed 809 hip-hop quartet, a small dancer's box
-would have doubled its width to the pose of the tall dancer in front: IDF1 0.944 -> 0.823 without the test). Only
-keypoints of confidence ``min_confidence`` or more count, and only when ``min_keypoints`` of them do. Boxes only
-grow, and only sideways: a dancer's height is what the tracker and the detector follow best, and widening it to the
-keypoints too added identity switches (936 hdvr synth clips: clips below IDF1 0.9 or with a switch 63 -> 54, mean
-0.9784 -> 0.9801; docs/benchmarks.md "session 32").
+ankle, the limb's own thickness; a hand alone is about 0.1 of a person's height). While a dancer overlaps others its
+tracked box keeps the size it had when clear, and the detector's person box often leaves out a spread arm or a
+raised leg that its keypoints show, so the written box would miss part of the written skeleton. Only a pose that
+fits the box counts: its torso (neck, shoulders, hips) lies between the box's sides and all its keypoints within the
+box's height, give or take ``height_margin`` (Algorithm 2* sometimes gives a dancer behind another the pose of the
+one in front: hdvr synth seed 809 hip-hop quartet, a small dancer's box would have doubled its width to the pose of
+the tall dancer in front: IDF1 0.944 -> 0.823 without the test). Only keypoints of confidence ``min_confidence`` or
+more count, and only when ``min_keypoints`` of them do. Boxes only grow, and only sideways: a dancer's height is
+what the tracker and the detector follow best, and widening it to the keypoints too added identity switches (936
+hdvr synth clips: clips below IDF1 0.9 or with a switch 63 -> 54, mean 0.9784 -> 0.9801; docs/benchmarks.md "session
+32").
 
 :func:`trim_above_pose`: a box of a dancer seen whose pose shows nearly all of COCO-17's joints, all inside the box,
 is lowered where its top reaches more than ``reach`` x its height above the pose's highest keypoint (the head's

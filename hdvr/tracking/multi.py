@@ -149,6 +149,8 @@ class MultiTrackerConfig:
     # it, and the holder is occluded from then on (:meth:`_reidentify`, :meth:`_handed_over`).
     # hdvr synth seed 503 ballet: a dancer at the back took the colours of the dancer walking out in front of it,
     # which was never re-identified; IDF1 0.633 -> 0.723 (seed 308 flamenco 0.883 -> 0.983)
+    reid_holder_covered: float = 0.9  # ... and if it spans this much of the width of the holder's body core (the
+    # holder is hidden behind it, not beside it; seed 609 ballet, 0.78 of it: 0.940 -> 0.727 with 2 switches)
     own_box_max_shift: float | None = 0.15  # an occluded dancer's own tracker's box (running without learning) is a
     # candidate of re-identification and relocation only if its bottom lies within this x the dancer's box height of
     # the bottom of the dancer's box (held or predicted): a hidden dancer's feet stay on the floor, and a tracker
@@ -156,8 +158,6 @@ class MultiTrackerConfig:
     # (seed 212 hip-hop: a waiting dancer's box 47 px up behind crouching dancers, held there 100 frames; IDF1 0.602
     # -> 0.867): 504 synthetic clips failing 22 -> 20, mean IDF1 0.9854 -> 0.9863, switches 14 -> 8, 6 clips up, 2
     # down (2308 hip-hop 0.879 with 6 switches -> 0.925 with none, 2506 ballet 0.871 -> 1.000)
-    reid_holder_covered: float = 0.9  # ... and if it spans this much of the width of the holder's body core (the
-    # holder is hidden behind it, not beside it; seed 609 ballet, 0.78 of it: 0.940 -> 0.727 with 2 switches)
     emerge_hidden_starts: bool = True  # a dancer started mostly hidden (``hidden_start_overlap``) takes the first
     # detection that comes out clear of every other dancer, that no other dancer takes and that does not look like
     # the dancer hiding it (:meth:`MultiDancerTracker._emerge`)
