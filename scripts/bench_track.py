@@ -116,6 +116,12 @@ def tracking_detector(model: TrackingModel, size: int = 480, score_threshold: fl
                             weak_threshold=min(model.weak_threshold, score_threshold), flip_test=model.flip_test)
 
 
+def default_tracking_detector() -> OnnxPoseDetector:
+    """The synth section's detector with the default model and settings (YOLO11n-pose at 480 px, sure 0.3, weak
+    finds as ``hdvr track``, no flip test): the one the helper scripts track and measure with."""
+    return tracking_detector(TrackingModel(default_pose_model()))
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)

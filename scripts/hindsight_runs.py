@@ -24,15 +24,15 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import statistics
 import sys
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_track import (SYNTH_CLIPS, TrackingModel, _seen_truth, _starts_from_truth,  # noqa: E402
-                         track_synth_clip, tracking_detector)
+from bench_track import (SYNTH_CLIPS, _seen_truth, _starts_from_truth, default_tracking_detector,  # noqa: E402
+                         track_synth_clip)
+from compare_track_runs import failing, summary  # noqa: E402
 
 from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
 from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight  # noqa: E402
@@ -80,22 +80,6 @@ def score_run(run: dict, truth_boxes: np.ndarray, settings: HindsightSettings) -
             "idf1_iou04": loose.idf1, "id_switches_iou04": loose.id_switches}
 
 
-def failing(score: dict, iou04: bool = False) -> bool:
-    """The issue's target missed: IDF1 below 0.9 or an identity switch (at IoU 0.4 with ``iou04``)."""
-    if iou04:
-        return score["idf1_iou04"] < 0.9 or score["id_switches_iou04"] > 0
-    return score["idf1"] < 0.9 or score["id_switches"] > 0
-
-
-def summary(scores: dict[str, dict]) -> str:
-    """One line: clips, mean IDF1 and HOTA, clips below 0.9, switches (clips), failing, failing at IoU 0.4."""
-    rows = list(scores.values())
-    return (f"{len(rows)} clips: mean IDF1 {statistics.fmean(r['idf1'] for r in rows):.4f}, "
-            f"HOTA {statistics.fmean(r['hota'] for r in rows):.4f}, below 0.9 {sum(r['idf1'] < 0.9 for r in rows)}, "
-            f"switches {sum(r['id_switches'] for r in rows)} ({sum(r['id_switches'] > 0 for r in rows)} clips), "
-            f"failing {sum(failing(r) for r in rows)}, failing at IoU 0.4 {sum(failing(r, True) for r in rows)}")
-
-
 def parse_settings(pairs: list[str]) -> HindsightSettings:
     """:class:`HindsightSettings` with ``NAME=VALUE`` overrides; a clear error for an unknown name or bad value."""
     fields = {f.name: f.type for f in dataclasses.fields(HindsightSettings)}
@@ -111,7 +95,7 @@ def parse_settings(pairs: list[str]) -> HindsightSettings:
     return HindsightSettings(**values)
 
 
-def _seeds(text: str) -> list[int]:
+def _integers(text: str) -> list[int]:
     """Comma-separated integers (seeds or clip indices)."""
     try:
         return [int(s) for s in text.split(",") if s]
@@ -120,14 +104,12 @@ def _seeds(text: str) -> list[int]:
 
 
 def save(args) -> int:
-    from hdvr.pipeline import WEAK_DETECTION_THRESHOLD
-    from hdvr.pose2d.models import default_pose_model
     from hdvr.synth.groundtruth import ClipSpec, make_clip
 
     args.runs.mkdir(parents=True, exist_ok=True)
-    detector = tracking_detector(TrackingModel(default_pose_model(), WEAK_DETECTION_THRESHOLD, False))
-    seeds = _seeds(args.seeds)
-    indices = _seeds(args.clips) if args.clips else list(range(len(SYNTH_CLIPS)))
+    detector = default_tracking_detector()
+    seeds = _integers(args.seeds)
+    indices = _integers(args.clips) if args.clips else list(range(len(SYNTH_CLIPS)))
     if any(not 0 <= i < len(SYNTH_CLIPS) for i in indices):
         raise SystemExit(f"hindsight_runs: --clips takes indices 0-{len(SYNTH_CLIPS) - 1}, got {args.clips!r}")
     total, done = len(seeds) * len(indices), 0
@@ -162,7 +144,7 @@ def score(args) -> int:
         scores[f"{seed}:{index}:0.3"] = {"genre": SYNTH_CLIPS[index][0],
                                          **score_run(load_run(path), truth_boxes, settings)}
     print(f"{dataclasses.asdict(settings)}")
-    print(summary(scores))
+    print(summary(scores, scores))
     print("failing: " + " ".join(f"{k.rsplit(':', 1)[0]} {v['idf1']:.3f}/{v['id_switches']}"
                                  for k, v in scores.items() if failing(v)))
     if args.per_clip_json:

@@ -25,10 +25,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_track import TrackingModel, _seen_truth, tracking_detector  # noqa: E402
+from bench_track import _seen_truth, default_tracking_detector  # noqa: E402
 
-from hdvr.pipeline import WEAK_DETECTION_THRESHOLD  # noqa: E402
-from hdvr.pose2d.models import default_pose_model  # noqa: E402
 from hdvr.tracking.evaluation import iou_matrix  # noqa: E402
 from hdvr.video import VideoReader  # noqa: E402
 
@@ -88,7 +86,7 @@ def main(argv=None) -> int:
     bad = [c for c in args.clips if not (c / "video.mp4").is_file() or not (c / "gt.npz").is_file()]
     if bad:
         raise SystemExit(f"measure_keypoint_reach: {bad[0]} is not an hdvr synth clip folder (video.mp4, gt.npz)")
-    detector = tracking_detector(TrackingModel(default_pose_model(), WEAK_DETECTION_THRESHOLD, False))
+    detector = default_tracking_detector()
     reaches = []
     for k, clip in enumerate(args.clips):
         reaches += measure_clip(clip, detector, args.every)

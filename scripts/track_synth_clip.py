@@ -23,12 +23,10 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_track import (TrackingModel, _seen_truth, _starts_from_truth, parse_tracker_config,  # noqa: E402
-                         track_synth_clip, tracking_detector)
+from bench_track import (_seen_truth, _starts_from_truth, default_tracking_detector,  # noqa: E402
+                         parse_tracker_config, track_synth_clip)
 
 from hdvr.errors import HDVRError  # noqa: E402
-from hdvr.pipeline import WEAK_DETECTION_THRESHOLD  # noqa: E402
-from hdvr.pose2d.models import default_pose_model  # noqa: E402
 from hdvr.tracking.evaluation import evaluate_tracking, iou_matrix  # noqa: E402
 
 
@@ -63,7 +61,7 @@ def main(argv=None) -> int:
     config = parse_tracker_config(args.tracker_config)
     truth_boxes, truth = _seen_truth(args.clip)
     order, starts = _starts_from_truth(truth_boxes)
-    detector = tracking_detector(TrackingModel(default_pose_model(), WEAK_DETECTION_THRESHOLD, False))
+    detector = default_tracking_detector()
     try:
         run = track_synth_clip(args.clip, args.out, detector, starts, config, write=True)
     except HDVRError as exc:

@@ -49,7 +49,7 @@ def test_a_kept_run_scores_with_hindsight_filling_the_occluded_stretch(tmp_path,
     assert scores["hindsight"]["keypoint_reach"] == HindsightSettings().keypoint_reach
     clip = scores["clips"]["7:0:0.3"]
     assert clip["idf1"] == 1.0 and clip["id_switches"] == 0  # the filled stretch follows the dancer
-    assert "1 clips: mean IDF1 1.0000" in capsys.readouterr().out
+    assert "1 clips, mean IDF1 1.0000" in capsys.readouterr().out
     # without hindsight the held box falls behind the moving dancer: the kept boxes themselves score lower
     run = script.load_run(runs / "7_0.npz")
     from hdvr.tracking.evaluation import evaluate_tracking
@@ -67,14 +67,16 @@ def test_settings_are_parsed_with_clear_errors():
 
 
 def test_failing_and_summary_count_the_issue_target():
+    """The script reports with compare_track_runs' ``failing`` and ``summary``, so both read the same counts."""
     script = load_script("hindsight_runs")
     ok = {"idf1": 0.95, "id_switches": 0, "hota": 0.8, "idf1_iou04": 0.97, "id_switches_iou04": 0}
     switched = dict(ok, id_switches=1)
     low = dict(ok, idf1=0.85, idf1_iou04=0.92)
     assert [script.failing(r) for r in (ok, switched, low)] == [False, True, True]
-    assert script.failing(low, iou04=True) is False
-    line = script.summary({"a": ok, "b": switched, "c": low})
-    assert "3 clips" in line and "failing 2," in line and "below 0.9 1" in line and "switches 1 (1 clips)" in line
+    assert script.failing(low, "idf1_iou04", "id_switches_iou04") is False
+    rows = {"a": ok, "b": switched, "c": low}
+    line = script.summary(rows, rows)
+    assert "3 clips" in line and "2 failing" in line and "1 below 0.9" in line and "1 switches on 1 clips" in line
 
 
 def test_bad_runs_and_missing_truth_are_one_line_errors(tmp_path):
@@ -95,10 +97,8 @@ def test_a_real_clip_kept_and_scored_gives_the_benchmark_s_figures(tmp_path, cap
     """One rendered 1-second two-dancer clip (index 1, swing): tracked once with hindsight off by ``save`` and
     scored with the default settings by ``score``, it gives what the benchmark's own tracking, hindsight on, gives."""
     script = load_script("hindsight_runs")
-    from bench_track import TrackingModel, _seen_truth, _starts_from_truth, track_synth_clip, tracking_detector
+    from bench_track import _seen_truth, _starts_from_truth, default_tracking_detector, track_synth_clip
 
-    from hdvr.pipeline import WEAK_DETECTION_THRESHOLD
-    from hdvr.pose2d.models import default_pose_model
     from hdvr.tracking.evaluation import evaluate_tracking
 
     clips, runs, out = tmp_path / "clips", tmp_path / "runs", tmp_path / "scores.json"
@@ -110,7 +110,7 @@ def test_a_real_clip_kept_and_scored_gives_the_benchmark_s_figures(tmp_path, cap
     clip = script.clip_folder(clips, 5, 1)
     truth_boxes, _ = _seen_truth(clip)
     order, starts = _starts_from_truth(truth_boxes)
-    detector = tracking_detector(TrackingModel(default_pose_model(), WEAK_DETECTION_THRESHOLD, False))
+    detector = default_tracking_detector()
     direct = track_synth_clip(clip, tmp_path / "work", detector, starts, hindsight=True)
     expect = evaluate_tracking(truth_boxes, direct.boxes[:, np.argsort(order)])
     assert kept["idf1"] == pytest.approx(expect.idf1) and kept["id_switches"] == expect.id_switches

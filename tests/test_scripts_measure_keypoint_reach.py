@@ -44,12 +44,9 @@ def test_the_detector_finds_keypoints_inside_a_rendered_dancers_box(tmp_path, ca
     assert script.main([str(tmp_path / spec.name), "--every", "5"]) == 0
     out = capsys.readouterr().out
     assert "dancer-frames seen whole" in out and "sides (left and right)" in out
-    from bench_track import TrackingModel, tracking_detector
+    from bench_track import default_tracking_detector
 
-    from hdvr.pipeline import WEAK_DETECTION_THRESHOLD
-    from hdvr.pose2d.models import default_pose_model
-
-    detector = tracking_detector(TrackingModel(default_pose_model(), WEAK_DETECTION_THRESHOLD, False))
+    detector = default_tracking_detector()
     reaches = np.array(script.measure_clip(tmp_path / spec.name, detector, every=5))
     assert len(reaches) >= 3
     assert (reaches > -0.1).all() and (reaches < 0.5).all()
