@@ -2,6 +2,7 @@
 
 import numpy as np
 
+from hdvr.tracking.appearance import colour_histogram
 from hdvr.tracking.state import TRACKED, DancerTrack, box_at, box_centre, stands_in_front
 
 
@@ -27,6 +28,17 @@ def test_recent_motion_is_the_mean_step_of_the_recent_centres():
     assert np.allclose(d.recent_motion, 0.0)  # fewer than 2 centres: no motion
     d.centers = [np.array([10.0, 5.0]), np.array([12.0, 5.0]), np.array([16.0, 8.0])]
     assert np.allclose(d.recent_motion, [3.0, 1.5])
+
+
+def test_memory_match_compares_a_box_s_colours_with_the_stored_histogram():
+    frame = np.zeros((100, 200, 3), np.uint8)
+    frame[:, :100] = (30, 40, 200)  # red half (BGR)
+    frame[:, 100:] = (200, 60, 20)  # blue half
+    d = DancerTrack(0, None, (10.0, 10.0, 60.0, 80.0))
+    assert d.memory_match(frame) == -1.0  # nothing stored yet
+    d.stored_histogram = colour_histogram(frame, d.box)
+    assert d.memory_match(frame) > 0.99  # its own box, the colours it stored
+    assert d.memory_match(frame, (120.0, 10.0, 60.0, 80.0)) < 0.1  # another box: other colours
 
 
 def test_a_box_stands_in_front_when_its_bottom_is_lower_by_the_margin_of_the_other_s_height():

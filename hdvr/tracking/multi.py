@@ -891,7 +891,7 @@ class MultiDancerTracker(ReportedExtent):
             return True
         if self._inside_fraction(self._predicted_box(d, t)) >= c.out_fraction:
             return False
-        return histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram) < c.failure_histogram
+        return d.memory_match(frame) < c.failure_histogram
 
     def _set_out(self, d: DancerTrack, side: str | None = None) -> None:
         """Dancer ``d`` has left the frame: no box until it is re-identified (:meth:`_reenter`,
@@ -952,7 +952,7 @@ class MultiDancerTracker(ReportedExtent):
         candidates = []
         for d in out:
             strip = self._edge_strip(d)
-            score = histogram_similarity(colour_histogram(frame, strip), d.stored_histogram)
+            score = d.memory_match(frame, strip)
             empty = d.edge_empty_score
             d.edge_empty_score = min(empty, score)
             if score >= empty + c.reid_margin and all(box_overlap(strip, self._core(o)) <= c.overlap_threshold
@@ -1042,7 +1042,7 @@ class MultiDancerTracker(ReportedExtent):
         person that looks like another dancer is that dancer, lost too, not this one). Returns whether it moved."""
         c = self.config
         long_lost = d.missed >= c.long_lost_detections
-        current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
+        current = d.memory_match(frame)
         others = [o for o in self.dancers if o is not d]
         # dancers the person must match worse (by reid_margin) than this one: when long lost, those not held by a
         # detection of their own; with jump_rivals, every one showing its own colours
@@ -1453,7 +1453,7 @@ class MultiDancerTracker(ReportedExtent):
 
     def _failed(self, d: DancerTrack, frame, overlapping: list[int], boxes) -> bool:
         c = self.config
-        similarity = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
+        similarity = d.memory_match(frame)
         stored_speed = float(np.linalg.norm(d.stored_velocity))
         if len(d.centers) > c.motion_window:  # a full window since (re)start
             steps = len(d.centers) - 1
@@ -1481,7 +1481,7 @@ class MultiDancerTracker(ReportedExtent):
                     continue  # o still waits hidden behind d: d is the dancer seen there (o yields in its own test)
                 if c.waiting_yields and d.hidden_behind == o.dancer_id:
                     return True
-                other_similarity = histogram_similarity(colour_histogram(frame, o.box), o.stored_histogram)
+                other_similarity = o.memory_match(frame)
                 if similarity < other_similarity:
                     return True
         return False
@@ -1544,7 +1544,7 @@ class MultiDancerTracker(ReportedExtent):
         for box in candidates:
             if max((box_iou(box, o) for o in others), default=0.0) > 0.5:
                 continue  # that patch is another dancer's
-            score = histogram_similarity(colour_histogram(frame, box), d.stored_histogram)
+            score = d.memory_match(frame, box)
             if score > best_score:
                 best, best_score = box, score
         if best is None or (best_score < c.relocate_min_similarity and not force):
@@ -1846,7 +1846,7 @@ class MultiDancerTracker(ReportedExtent):
         histograms = {det: colour_histogram(frame, det) for det in people}  # shared with _histogram_matches
         candidates = []
         for d in [o for o in known if o.status == TRACKED]:
-            current = histogram_similarity(colour_histogram(frame, d.box), d.stored_histogram)
+            current = d.memory_match(frame)
             candidates.append((d, [det for det in people if self._height_fits(d, det) and histogram_similarity(
                 histograms[det], d.stored_histogram) >= current + c.stray_adrift_margin]))
         for d, box, score in self._histogram_matches(frame, candidates, known, histograms=histograms):

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from hdvr.tracking.appearance import colour_histogram, histogram_similarity
 from hdvr.tracking.ldes import LDESTracker
 
 TRACKED, OCCLUDED, OUT = "tracked", "occluded", "out"
@@ -85,6 +86,12 @@ class DancerTrack:
     def center(self) -> np.ndarray:
         x, y, w, h = self.box
         return np.array([x + w / 2, y + h / 2])
+
+    def memory_match(self, frame_bgr: np.ndarray, box=None) -> float:
+        """How well the colours inside ``box`` (x, y, w, h px; default the dancer's own box) of a BGR frame match
+        the dancer's stored histogram: correlation in [-1, 1], -1 where either histogram is missing."""
+        return histogram_similarity(colour_histogram(frame_bgr, self.box if box is None else box),
+                                    self.stored_histogram)
 
 
 @dataclass(frozen=True)
