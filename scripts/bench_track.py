@@ -481,10 +481,9 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
     joints = body25_joints_of(COCO17_NAMES)
     detectors = {} if truth_detector else {thr: tracking_detector(model, score_threshold=thr) for thr in thresholds}
     for seed in seeds:
-        root = (clips_dir or tmp) / f"synth-{seed}{'-groups' if groups else ''}"  # clip folders named by index
         for index, (genre, n) in enumerate(clips):
             spec = ClipSpec(index, seed, genre, n, seconds)
-            clip = root / spec.name
+            clip = synth_clip_folder(clips_dir or tmp, spec, groups)
             if clips_dir is None or not (clip / "gt.npz").is_file() or not (clip / "video.mp4").is_file():
                 make_clip(root, spec, render=True)
             gt, truth = _seen_truth(clip)
@@ -544,6 +543,12 @@ def _miss_cause_table(threshold: float, counts: dict) -> list[str]:
         lines.append(f"| {v} | {sum(counts.get((v, c), 0) for c in MISS_CAUSES)} | "
                      + " | ".join(f"{x:.2f}" for x in row) + " |")
     return lines + [""]
+
+
+def synth_clip_folder(clips_dir: Path, spec, groups: bool = False) -> Path:
+    """Where the synth section keeps a clip (``--clips-dir`` layout): ``synth-SEED[-groups]/clip_0000I`` under
+    ``clips_dir``, for a :class:`hdvr.synth.groundtruth.ClipSpec` ``spec``."""
+    return Path(clips_dir) / f"synth-{spec.seed}{'-groups' if groups else ''}" / spec.name
 
 
 def track_synth_clip(clip: Path, out: Path, detector, starts, config=None, hindsight: bool = True,

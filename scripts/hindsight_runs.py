@@ -31,7 +31,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_track import (SYNTH_CLIPS, _seen_truth, _starts_from_truth, default_tracking_detector,  # noqa: E402
-                         track_synth_clip)
+                         synth_clip_folder, track_synth_clip)
 from compare_track_runs import failing, summary  # noqa: E402
 
 from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
@@ -40,9 +40,13 @@ from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight  # noqa: 
 RUN_KEYS = ("boxes", "status", "keypoints", "order", "hidden_starts", "width")
 
 
-def clip_folder(clips_dir: Path, seed: int, index: int) -> Path:
-    """The folder of clip ``index`` of seed ``seed`` under ``clips_dir`` (``bench_track.py --clips-dir`` layout)."""
-    return clips_dir / f"synth-{seed}" / f"clip_{index:05d}"
+def clip_spec(seed: int, index: int, seconds: float = 4.0):
+    """The benchmark's clip ``index`` (into ``SYNTH_CLIPS``) of seed ``seed``, as a
+    :class:`hdvr.synth.groundtruth.ClipSpec`."""
+    from hdvr.synth.groundtruth import ClipSpec
+
+    genre, n = SYNTH_CLIPS[index]
+    return ClipSpec(index, seed, genre, n, seconds)
 
 
 def save_run(path: Path, run, order) -> None:
@@ -104,7 +108,7 @@ def _integers(text: str) -> list[int]:
 
 
 def save(args) -> int:
-    from hdvr.synth.groundtruth import ClipSpec, make_clip
+    from hdvr.synth.groundtruth import make_clip
 
     args.runs.mkdir(parents=True, exist_ok=True)
     detector = default_tracking_detector()
@@ -115,10 +119,10 @@ def save(args) -> int:
     total, done = len(seeds) * len(indices), 0
     for seed in seeds:
         for index in indices:
-            genre, n = SYNTH_CLIPS[index]
-            clip = clip_folder(args.clips_dir, seed, index)
+            spec = clip_spec(seed, index, args.seconds)
+            clip = synth_clip_folder(args.clips_dir, spec)
             if not (clip / "gt.npz").is_file() or not (clip / "video.mp4").is_file():
-                make_clip(clip.parent, ClipSpec(index, seed, genre, n, args.seconds), render=True)
+                make_clip(clip.parent, spec, render=True)
             truth_boxes, _ = _seen_truth(clip)
             order, starts = _starts_from_truth(truth_boxes)
             run = track_synth_clip(clip, args.runs / "work", detector, starts, hindsight=False)
@@ -137,7 +141,7 @@ def score(args) -> int:
     scores = {}
     for path in paths:
         seed, index = (int(v) for v in path.stem.split("_"))
-        clip = clip_folder(args.clips_dir, seed, index)
+        clip = synth_clip_folder(args.clips_dir, clip_spec(seed, index))
         if not (clip / "gt.npz").is_file():
             raise SystemExit(f"hindsight_runs: no ground truth for run {path.name}: {clip / 'gt.npz'} is missing")
         truth_boxes, _ = _seen_truth(clip)

@@ -107,7 +107,7 @@ def test_a_real_clip_kept_and_scored_gives_the_benchmark_s_figures(tmp_path, cap
     assert sorted(p.name for p in runs.glob("*.npz")) == ["5_1.npz"]
     assert script.main(["score", "--clips-dir", str(clips), "--runs", str(runs), "--per-clip-json", str(out)]) == 0
     kept = json.loads(out.read_text())["clips"]["5:1:0.3"]
-    clip = script.clip_folder(clips, 5, 1)
+    clip = script.synth_clip_folder(clips, script.clip_spec(5, 1))
     truth_boxes, _ = _seen_truth(clip)
     order, starts = _starts_from_truth(truth_boxes)
     detector = default_tracking_detector()
