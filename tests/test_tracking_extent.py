@@ -358,11 +358,13 @@ def test_a_hidden_dancer_reaches_as_far_as_its_arm_beside_the_one_in_front():
 
 def test_a_hidden_dancer_keeps_its_extent_until_it_shows_again():
     """Once the arm of the dancer behind is no longer seen beside the one in front, it may as well be hidden behind
-    that dancer: the hidden dancer's box keeps its extent (``hold_hidden_extent``). Standing clear again, the
-    dancer shows that its arm is in, and the extent goes."""
+    that dancer: the hidden dancer's box keeps its extent (``hold_hidden_extent``), but only as far as the dancers
+    in front cover it (``hold_within_cover``): an arm reaching beyond them would be seen. Standing clear again,
+    the dancer shows that its arm is in, and the extent goes."""
     boxes = {}
-    for hold in (True, False):
-        tracker = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES, MultiTrackerConfig(hold_hidden_extent=hold))
+    for hold, within in ((True, True), (True, False), (False, False)):
+        config = MultiTrackerConfig(hold_hidden_extent=hold, hold_within_cover=within)
+        tracker = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES, config)
         frame, kp_a = _stacked_scene(b_arm_tip=180.0)
         for _ in range(6):
             tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
@@ -370,9 +372,21 @@ def test_a_hidden_dancer_keeps_its_extent_until_it_shows_again():
         frame, kp_a = _stacked_scene()  # the arm is down, behind A
         for _ in range(18):  # in a group the growth goes back at a third of the rate (``group_shrink``)
             result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
-        boxes[hold] = result.boxes[1]
-    assert boxes[True][0] < 180 + 12, boxes[True]  # still reaching to where the arm was
-    assert boxes[False][0] > STACKED_BOXES[1][0] - 10, boxes[False]  # without the rule it shrinks back
+        boxes[hold, within] = result.boxes[1]
+    assert boxes[True, False][0] < 180 + 12, boxes[True, False]  # held: still reaching to where the arm was
+    # beyond A's box (left edge 262 px) the arm would be seen: it shrinks back to A's edge, and without the rule
+    # back to B's own box
+    assert STACKED_BOXES[0][0] - 12 < boxes[True, True][0] < boxes[False, False][0], boxes
+    assert boxes[False, False][0] > STACKED_BOXES[1][0] - 10, boxes[False, False]
+    # a front dancer as wide as the arm's reach (its own arms spread) hides it all: the extent is held in full
+    frame, kp_a = _stacked_scene()
+    tracker = MultiDancerTracker(frame, [(160.0, 116.0, 240.0, 288.0), STACKED_BOXES[1]],
+                                 MultiTrackerConfig(pixel_extent=False))
+    assert tracker._hidden_behind(tracker.dancers[1])
+    tracker.dancers[1].growth = np.array([90.0, 0.0, 0.0, 0.0])
+    for _ in range(6):
+        result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
+    assert result.boxes[1][0] == pytest.approx(STACKED_BOXES[1][0] - 90.0), result.boxes[1]
     # B steps out to the side, clear of A: nothing hides its arms, and the extent shrinks
     tracker = MultiDancerTracker(frame, STACKED_BOXES, MultiTrackerConfig(pixel_extent=False))  # rule on
     tracker.dancers[1].box = (470.0, 106.0, 60.0, 258.0)

@@ -77,7 +77,8 @@ class ReportedExtent:
         Elsewhere the growth shrinks by that fraction (in a group, by ``group_shrink`` x that fraction: the
         evidence flickers there, and one frame without a limb says little), except (``hold_hidden_extent``) for a
         dancer hidden behind another (:meth:`_hidden_behind`): no evidence can show that its limbs came in, so it
-        keeps its extent. The box never shrinks below the tracked box (in a group a detection shows the visible
+        keeps its extent, with ``hold_within_cover`` only as far as the dancers overlapping it reach beyond its box
+        (:meth:`_covered_reach`; a limb beyond them would be seen). The box never shrinks below the tracked box (in a group a detection shows the visible
         part, which the dancer in front may cut), and the growth changes only the reported box, not the tracking
         (overlaps, histograms, failure tests, relocation). Returns the frame's result with the reported boxes."""
         c = self.config
@@ -115,10 +116,24 @@ class ReportedExtent:
                     if reach[side] >= 1 and _draws_limb(keypoints, strip, size):  # a limb reaches into the strip
                         target[side] = max(target[side], reach[side])
             if c.hold_hidden_extent and self._hidden_behind(d):
-                target = np.maximum(target, d.growth)  # nothing can show its limbs are in: they stay out
+                held = d.growth if not c.hold_within_cover else np.minimum(d.growth, self._covered_reach(d))
+                target = np.maximum(target, held)  # nothing can show its limbs are in: they stay out
             rate = np.where(target >= d.growth, a, a * (c.group_shrink if self._overlapping(i, boxes) else 1.0))
             d.growth = (1 - rate) * d.growth + rate * target
         return self.result()
+
+    def _covered_reach(self, d: DancerTrack) -> np.ndarray:
+        """How far (px) the reported boxes of the other dancers overlapping dancer ``d``'s tracked box reach beyond
+        it on the left, top, right and bottom (0 where none does): a hidden limb can only stay hidden behind them;
+        one reaching further would be seen."""
+        x, y, w, h = d.box
+        reach = np.zeros(4)
+        for o in self.dancers:
+            if o is d or o.status == OUT or box_overlap(o.box, d.box) <= 0:
+                continue
+            ox, oy, ow, oh = self._reported(o)
+            reach = np.maximum(reach, [x - ox, y - oy, ox + ow - x - w, oy + oh - y - h])
+        return reach
 
     def _widen_hidden(self, boxes: np.ndarray) -> np.ndarray:
         """Reported ``boxes`` (N, 4) px with each hidden dancer's (:meth:`_hidden_behind` with

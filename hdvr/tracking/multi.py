@@ -391,6 +391,11 @@ class MultiTrackerConfig:
     hold_hidden_extent: bool = True  # the reported box of a dancer hidden behind another keeps its extent (its
     # limbs cannot be seen to come in: :meth:`MultiDancerTracker._hidden_behind`). Cached synthetic clips: seeds
     # 7-127 mean IDF1 0.970 -> 0.974 (4 -> 3 below 0.9), groups of 6-8 0.915 -> 0.921 (14 -> 11 switches); 131-139 same
+    hold_within_cover: bool = True  # ... but only as far as the reported boxes of the dancers overlapping it reach
+    # beyond its box: a limb beyond them would be seen (:meth:`ReportedExtent._covered_reach`). Without it, the arm of
+    # the dancer in front that the front dancer's skeleton left out, once taken for the hidden dancer's, stayed on its
+    # box for the rest of the clip (hdvr synth seed 2505 swing couple: 76 px held from frame 30 to the end, IDF1 0.733
+    # -> 0.929). 504 hdvr synth clips: failing 20 -> 18, 10 clips up, 1 down (docs/benchmarks.md "session 49")
     hidden_min_aspect: float = 0.5  # the written box of a hidden dancer (occluded, or tracked with a dancer in
     # front whose body core overlaps its own by more than ``hidden_widen_overlap``) is at least this x its height
     # wide, but no wider than the dancers overlapping it (:meth:`MultiDancerTracker._widen_hidden`): its limbs are
