@@ -1581,9 +1581,9 @@ def test_an_occluded_dancer_is_not_taken_where_its_own_tracker_drifted_off_the_f
     """An occluded dancer's own tracker keeps running without learning, and its box is a candidate of
     re-identification. Behind a group it can drift up or down off the hidden dancer (hdvr synth seed 212 hip-hop:
     47 px up, 0.34 of the box height, while the dancers in front crouched; the box then stayed there 100 frames).
-    With ``own_box_max_shift`` (0.15 by default since session 48) that box counts only if its bottom lies within that fraction of the dancer's box
-    height of the bottom of the dancer's held box: the same colours 70 px (0.35 x) higher are not taken, 10 px
-    higher they are."""
+    With ``own_box_max_shift`` (0.15 by default since session 48) that box counts only if its bottom lies within
+    that fraction of the dancer's box height of the bottom of the dancer's held box: the same colours 70 px (0.35 x)
+    higher are not taken, 10 px higher they are."""
     held = (100.0, 200.0, 60.0, 200.0)
 
     def frame_with_figure(top: float) -> np.ndarray:

@@ -78,9 +78,10 @@ class ReportedExtent:
         evidence flickers there, and one frame without a limb says little), except (``hold_hidden_extent``) for a
         dancer hidden behind another (:meth:`_hidden_behind`): no evidence can show that its limbs came in, so it
         keeps its extent, with ``hold_within_cover`` only as far as the dancers overlapping it reach beyond its box
-        (:meth:`_covered_reach`; a limb beyond them would be seen). The box never shrinks below the tracked box (in a group a detection shows the visible
-        part, which the dancer in front may cut), and the growth changes only the reported box, not the tracking
-        (overlaps, histograms, failure tests, relocation). Returns the frame's result with the reported boxes."""
+        (:meth:`_covered_reach`; a limb beyond them would be seen). The box never shrinks below the tracked box (in a
+        group a detection shows the visible part, which the dancer in front may cut), and the growth changes only
+        the reported box, not the tracking (overlaps, histograms, failure tests, relocation). Returns the frame's
+        result with the reported boxes."""
         c = self.config
         if not c.pose_extent:
             return self.result()

@@ -9,8 +9,9 @@ cores too, so spread arms do not count. Per frame:
 2. while it overlaps another dancer the tracker does not learn; a *tracking failure* shows as a sudden change of
    motion (direction turned by more than ``failure_angle_deg``, a stall or a jump; a dancer with no stored
    velocity, e.g. one that has overlapped others since it started, fails by moving off only when it moves like a
-   dancer it overlaps or its box no longer looks much like it: its tracker is being dragged along) or as a
-   histogram that no longer matches the stored one;
+   dancer it overlaps or its box no longer looks much like it: its tracker is being dragged along; no motion test
+   for a dancer standing in front of every dancer it overlaps, ``front_keeps_motion``) or as a histogram that no
+   longer matches the stored one;
 3. on a failure the dancer is *occluded*: its box moves on with the stored velocity, and the frame where the
    overlap will end is predicted from the stored velocities of the dancers involved;
 4. occluded dancers that show clearly again (own tracker or a detection clear of every tracked dancer, matching
@@ -98,6 +99,15 @@ class MultiTrackerConfig:
     # 0.9585 -> 0.9621, switches 15 -> 14 (seed 201 tango 0.575 -> 0.875); seeds 7-139 the same mean, 2 -> 3
     # switches (seed 97 hip-hop quartet); groups of 6-8 0.9279 -> 0.9278; held-out seeds 301-312 (benchmark) 10 -> 11
     # below 0.9 (seed 302 flamenco 0.950 -> 0.894)
+    front_keeps_motion: bool = True  # no motion test (direction, stall, jump, a still dancer moving off) for a dancer
+    # standing in front of every dancer it overlaps (box bottom lower by ``pixel_front`` x the height): it is the one
+    # seen there, and a turn or a stop is its own dance, not an overlap taking its tracker off it (hdvr synth seed
+    # 2202 hip-hop: the front dancer of four stopped walking left, was taken for occluded while fully seen, never
+    # re-identified, and lost its identity to the dancer behind: IDF1 0.871 with a switch -> 0.979). Its correlation
+    # peak, its histogram and the same-person test still apply. 504 synthetic clips: failing 18 -> 17, switches 8 ->
+    # 7, 8 clips up, 5 down (2210 hip-hop 0.919 -> 0.783: a waiting dancer's box a few px off its amodal truth);
+    # only where the front dancer moves like none it overlaps (a dragged tracker moves with the dancer dragging it):
+    # 18 failing. Measured worse in session 17 on the code then (seed 208 tango), which no longer changes
     same_person_iou: float = 0.5  # two tracked boxes overlapping more than this (IoU) may be on the same person:
     # the one matching its own memory worse has failed
     waiting_yields: bool = True  # ... except that a dancer still waiting hidden behind the other (``hidden_behind``)
@@ -151,15 +161,6 @@ class MultiTrackerConfig:
     # which was never re-identified; IDF1 0.633 -> 0.723 (seed 308 flamenco 0.883 -> 0.983)
     reid_holder_covered: float = 0.9  # ... and if it spans this much of the width of the holder's body core (the
     # holder is hidden behind it, not beside it; seed 609 ballet, 0.78 of it: 0.940 -> 0.727 with 2 switches)
-    front_keeps_motion: bool = True  # no motion test (direction, stall, jump, a still dancer moving off) for a dancer
-    # standing in front of every dancer it overlaps (box bottom lower by ``pixel_front`` x the height): it is the one
-    # seen there, and a turn or a stop is its own dance, not an overlap taking its tracker off it (hdvr synth seed
-    # 2202 hip-hop: the front dancer of four stopped walking left, was taken for occluded while fully seen, never
-    # re-identified, and lost its identity to the dancer behind: IDF1 0.871 with a switch -> 0.979). Its correlation
-    # peak, its histogram and the same-person test still apply. 504 synthetic clips: failing 18 -> 17, switches 8 ->
-    # 7, 8 clips up, 5 down (2210 hip-hop 0.919 -> 0.783: a waiting dancer's box a few px off its amodal truth);
-    # only where the front dancer moves like none it overlaps (a dragged tracker moves with the dancer dragging it):
-    # 18 failing. Measured worse in session 17 on the code then (seed 208 tango), which no longer changes
     own_box_max_shift: float | None = 0.15  # an occluded dancer's own tracker's box (running without learning) is a
     # candidate of re-identification and relocation only if its bottom lies within this x the dancer's box height of
     # the bottom of the dancer's box (held or predicted): a hidden dancer's feet stay on the floor, and a tracker
@@ -1469,7 +1470,7 @@ class MultiDancerTracker(ReportedExtent):
         c = self.config
         similarity = d.memory_match(frame)
         stored_speed = float(np.linalg.norm(d.stored_velocity))
-        in_front = c.front_keeps_motion and overlapping and all(
+        in_front = c.front_keeps_motion and bool(overlapping) and all(
             stands_in_front(d.box, self.dancers[j].box, c.pixel_front) for j in overlapping)
         if len(d.centers) > c.motion_window and not in_front:  # a full window since (re)start
             steps = len(d.centers) - 1
