@@ -4,10 +4,12 @@ start offset (hdvr.tracking.hindsight)."""
 import numpy as np
 import pytest
 
-from hdvr.tracking.hindsight import (MIN_SEEN_AFTER, START_OFFSET_WEIGHT, HindsightSettings, apply_hindsight,
+from hdvr.tracking.hindsight import (HIDDEN_FEET_TOLERANCE, MIN_SEEN_AFTER, START_OFFSET_WEIGHT, HindsightSettings,
+                                     apply_hindsight,
                                      enclose_keypoints,
                                      fill_occluded, hold_last_seen, interpolate_boxes, keep_start_offset,
-                                     occluded_stretches, smooth_boxes, start_offsets, trim_above_pose)
+                                     keep_feet_behind_front, occluded_stretches, smooth_boxes, start_feet,
+                                     start_offsets, trim_above_pose)
 
 
 def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
@@ -366,6 +368,47 @@ def test_a_hidden_dancer_without_a_box_in_front_keeps_its_box():
     assert (moved[[1, 2, 5, 6, 7], 1, 0] != boxes[[1, 2, 5, 6, 7], 1, 0]).all()
 
 
+
+def test_start_feet_are_the_bottoms_of_both_boxes_at_the_start():
+    boxes, _ = _stack()
+    front, behind = boxes[0, 0], boxes[0, 1]
+    assert start_feet(boxes, [(0, 1, 0)]) == {(1, 0): (0, pytest.approx(behind[1] + behind[3]),
+                                                       pytest.approx(front[1] + front[3]))}
+    gone = boxes.copy()
+    gone[0, 1] = np.nan
+    assert start_feet(gone, [(0, 1, 0)]) == {} and start_feet(boxes, []) == {}
+
+
+def test_a_waiting_dancer_s_feet_stay_near_where_the_front_dancer_s_feet_put_them():
+    """On its hidden frames a waiting dancer's box moves up or down only as far as needed to bring its bottom
+    within ``tolerance`` x its height (100 px here) of its start bottom moved by the front dancer's: a box that slid
+    60 px down ends 25 px below, one 10 px off is left alone, and when the front dancer walks 30 px down the image
+    (towards the camera) the dancer behind is expected 30 px lower too. Frames seen, the front dancer and the box's
+    size and sideways place are not changed; an infinite tolerance changes nothing."""
+    boxes, status = _stack()
+    feet = start_feet(boxes, [(0, 1, 0)])
+    start_bottom = boxes[0, 1, 1] + boxes[0, 1, 3]
+    slid = boxes.copy()
+    slid[2:5, 1, 1] += 60.0  # its tracker slid down off the stack
+    slid[5, 1, 1] += 10.0
+    slid[6:8, 0, 1] += 30.0  # the front dancer comes 30 px nearer the camera
+    kept = keep_feet_behind_front(slid, status, feet, tolerance=0.25)
+    bottom = kept[:, 1, 1] + kept[:, 1, 3]
+    front_moved = slid[:, 0, 1] + slid[:, 0, 3] - (boxes[0, 0, 1] + boxes[0, 0, 3])  # px down since the start
+    expected = start_bottom + front_moved
+    np.testing.assert_allclose(bottom[2:5], expected[2:5] + 25.0)
+    np.testing.assert_allclose(bottom[5], slid[5, 1, 1] + slid[5, 1, 3])  # within 25 px: left alone
+    assert abs(bottom[5] - expected[5]) < 25.0
+    np.testing.assert_allclose(bottom[6:8], expected[6:8] - 25.0)  # it stood still: pulled down to 25 px above
+    assert (front_moved[6:8] > 29.0).all()
+    np.testing.assert_array_equal(kept[8:], slid[8:])  # seen again
+    np.testing.assert_array_equal(kept[:, 0], slid[:, 0])
+    np.testing.assert_array_equal(kept[..., [0, 2, 3]], slid[..., [0, 2, 3]])
+    np.testing.assert_array_equal(keep_feet_behind_front(slid, status, feet, tolerance=np.inf), slid)
+    np.testing.assert_array_equal(keep_feet_behind_front(slid, status, {}), slid)
+    with pytest.raises(ValueError, match="tolerance"):
+        keep_feet_behind_front(slid, status, feet, tolerance=-0.1)
+
 def test_apply_hindsight_keeps_a_hidden_start_s_offset_after_the_other_steps():
     """``apply_hindsight`` with the hidden starts moves the hidden frames of the boxes its other steps wrote, with
     the start offsets of the online boxes it was given; without them nothing moves."""
@@ -375,7 +418,9 @@ def test_apply_hindsight_keeps_a_hidden_start_s_offset_after_the_other_steps():
     plain, filled = apply_hindsight(boxes, status, keypoints)
     kept, filled_too = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)])
     np.testing.assert_array_equal(filled, filled_too)
-    np.testing.assert_allclose(kept, keep_start_offset(plain, status, {(1, 0): (0, 0.2)}, START_OFFSET_WEIGHT))
+    np.testing.assert_allclose(kept, keep_feet_behind_front(
+        keep_start_offset(plain, status, {(1, 0): (0, 0.2)}, START_OFFSET_WEIGHT), status,
+        start_feet(boxes, [(0, 1, 0)]), HIDDEN_FEET_TOLERANCE))
     assert np.abs(kept[:8, 1, 0] - plain[:8, 1, 0]).max() > 1.0
 
 
