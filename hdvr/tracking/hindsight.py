@@ -337,6 +337,23 @@ def start_offsets(boxes: np.ndarray, hidden_starts) -> dict[tuple[int, int], tup
     return out
 
 
+def _start_spans(starts, num_frames: int) -> dict[tuple[int, int], int]:
+    """For each (dancer, frame) start of ``starts`` (a dict keyed so), the frame its span ends (exclusive): the
+    dancer's next start, or ``num_frames``."""
+    keys = sorted(starts)
+    return {(dancer, first): next((f for d, f in keys[k + 1:] if d == dancer), num_frames)
+            for k, (dancer, first) in enumerate(keys)}
+
+
+def _waiting_frames(boxes: np.ndarray, status: np.ndarray, dancer: int, front: int, first: int,
+                    end: int) -> np.ndarray:
+    """Frames in [first, end) where ``dancer`` waits hidden (status ``hidden``) and both its box and the box of the
+    dancer in front, ``front``, are known (``boxes`` (T, N, 4) px, ``status`` (T, N))."""
+    frames = np.arange(first, end)
+    known = np.isfinite(boxes[frames, dancer]).all(axis=1) & np.isfinite(boxes[frames, front]).all(axis=1)
+    return frames[(status[frames, dancer] == HIDDEN) & known]
+
+
 def keep_start_offset(boxes: np.ndarray, status, offsets: dict[tuple[int, int], tuple[int, float]],
                       weight: float = START_OFFSET_WEIGHT) -> np.ndarray:
     """``boxes`` (T, N, 4) px with each dancer of ``offsets`` (:func:`start_offsets`) moved sideways, on the frames
@@ -347,14 +364,10 @@ def keep_start_offset(boxes: np.ndarray, status, offsets: dict[tuple[int, int], 
     if not 0 <= weight <= 1:
         raise ValueError(f"weight must be in [0, 1], got {weight}")
     out = boxes.copy()
-    starts = sorted(offsets)
-    for k, (dancer, first) in enumerate(starts):
+    for (dancer, first), end in _start_spans(offsets, len(boxes)).items():
         front, offset = offsets[(dancer, first)]
-        later = [f for d, f in starts[k + 1:] if d == dancer]
-        span = np.zeros(len(boxes), bool)
-        span[first:later[0] if later else len(boxes)] = True
-        frames = np.flatnonzero(span & (status[:, dancer] == HIDDEN) & np.isfinite(boxes[:, dancer]).all(axis=1)
-                                & np.isfinite(boxes[:, front]).all(axis=1) & (np.nan_to_num(boxes[:, dancer, 3]) > 0))
+        frames = _waiting_frames(boxes, status, dancer, front, first, end)
+        frames = frames[boxes[frames, dancer, 3] > 0]
         own = boxes[frames, dancer]
         now = _sideways_offset(own, boxes[frames, front])
         out[frames, dancer, 0] = own[:, 0] + weight * (offset - now) * own[:, 3]
@@ -388,14 +401,9 @@ def keep_feet_behind_front(boxes: np.ndarray, status, feet: dict[tuple[int, int]
     if not tolerance >= 0:
         raise ValueError(f"tolerance must be >= 0, got {tolerance}")
     out = boxes.copy()
-    starts = sorted(feet)
-    for k, (dancer, first) in enumerate(starts):
+    for (dancer, first), end in _start_spans(feet, len(boxes)).items():
         front, own_bottom, front_bottom = feet[(dancer, first)]
-        later = [f for d, f in starts[k + 1:] if d == dancer]
-        span = np.zeros(len(boxes), bool)
-        span[first:later[0] if later else len(boxes)] = True
-        frames = np.flatnonzero(span & (status[:, dancer] == HIDDEN) & np.isfinite(boxes[:, dancer]).all(axis=1)
-                                & np.isfinite(boxes[:, front]).all(axis=1))
+        frames = _waiting_frames(boxes, status, dancer, front, first, end)
         own, other = boxes[frames, dancer], boxes[frames, front]
         expected = own_bottom + (other[:, 1] + other[:, 3] - front_bottom)
         limit = tolerance * own[:, 3]
