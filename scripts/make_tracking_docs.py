@@ -38,6 +38,8 @@ CASES = (
 #: (seed, clip index, genre, dancers, frame, MultiTrackerConfig field switched off on the left, picture name)
 BEFORE_AFTER = (
     (113, 5, "ballet", 4, 60, "hidden_min_aspect", "tracking_amodal_s113_ballet_060.jpg"),
+    (2505, 1, "swing", 2, 66, "hold_within_cover", "tracking_hold_within_cover_s2505_swing_066.jpg"),
+    (2202, 4, "hip_hop", 4, 100, "front_keeps_motion", "tracking_front_keeps_motion_s2202_hip_hop_100.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (
