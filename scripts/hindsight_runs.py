@@ -8,7 +8,8 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
 ``bench_track.py --sections synth --synth-thresholds 0.3`` (same clips, same detector, same starts).
 
     # track each clip once (YOLO11n-pose at 480 px every 3rd frame, as the benchmark), hindsight off
-    python3 scripts/hindsight_runs.py save --clips-dir CLIPS --seeds 201,202 --runs RUNS
+    python3 scripts/hindsight_runs.py save --clips-dir CLIPS --seeds 201,202 --runs RUNS \
+        [--detections DETS] [--tracker-config NAME=VALUE,...]
     # score hindsight settings on the kept runs
     python3 scripts/hindsight_runs.py score --clips-dir CLIPS --runs RUNS [--set keypoint_reach=0.1 ...] \\
         [--per-clip-json F.json]
@@ -17,6 +18,12 @@ CLIPS holds ``synth-SEED/clip_0000I`` folders as ``bench_track.py --clips-dir`` 
 missing); RUNS one ``SEED_INDEX.npz`` per clip (keys: boxes, status, keypoints, order, hidden_starts, width).
 ``--set`` takes the fields of :class:`hdvr.tracking.hindsight.HindsightSettings`. ``--per-clip-json`` writes the
 format of ``bench_track.py --per-clip-json``, for ``scripts/compare_track_runs.py``.
+
+An online rule (a ``MultiTrackerConfig`` field, ``--tracker-config`` as in ``bench_track.py``) changes the runs
+themselves: save them again with it and score. ``--detections DETS`` keeps each clip's detector output
+(``DETS/SEED_INDEX/detections.npz``, with the outputs of ``hdvr track``) and reuses it on later saves, which then run
+the tracker alone (and the detector on the zoomed-in crops about waiting dancers): 504 clips in about 10 minutes on
+2 cores, two saves of different seeds side by side. The runs are the same with or without it.
 """
 
 from __future__ import annotations
@@ -31,7 +38,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_track import (SYNTH_CLIPS, _seen_truth, _starts_from_truth, default_tracking_detector,  # noqa: E402
-                         synth_clip_folder, track_synth_clip)
+                         parse_tracker_config, synth_clip_folder, track_synth_clip)
 from compare_track_runs import failing, summary  # noqa: E402
 
 from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
@@ -110,6 +117,7 @@ def _integers(text: str) -> list[int]:
 def save(args) -> int:
     from hdvr.synth.groundtruth import make_clip
 
+    config = parse_tracker_config(args.tracker_config)
     args.runs.mkdir(parents=True, exist_ok=True)
     detector = default_tracking_detector()
     seeds = _integers(args.seeds)
@@ -125,7 +133,9 @@ def save(args) -> int:
                 make_clip(clip.parent, spec, render=True)
             truth_boxes, _ = _seen_truth(clip)
             order, starts = _starts_from_truth(truth_boxes)
-            run = track_synth_clip(clip, args.runs / "work", detector, starts, hindsight=False)
+            cached = args.detections / f"{seed}_{index}" if args.detections else None  # outputs and detections
+            run = track_synth_clip(clip, cached or args.runs / "work", detector, starts, config, hindsight=False,
+                                   write=cached is not None)
             save_run(args.runs / f"{seed}_{index}.npz", run, order)
             done += 1
             print(f"\r{done}/{total} clips tracked", end="", file=sys.stderr, flush=True)
@@ -168,6 +178,10 @@ def main(argv=None) -> int:
     sv.add_argument("--clips", help="comma-separated clip indices per seed (default all: "
                     + ", ".join(f"{i} {g} {n}" for i, (g, n) in enumerate(SYNTH_CLIPS)) + ")")
     sv.add_argument("--seconds", type=float, default=4.0, help="length of clips rendered here (benchmark: 4)")
+    sv.add_argument("--tracker-config", default="", metavar="NAME=VALUE,...",
+                    help="MultiTrackerConfig fields changed for these runs (as bench_track.py --tracker-config)")
+    sv.add_argument("--detections", type=Path, help="folder keeping each clip's detections (SEED_INDEX/), reused by "
+                                                    "later saves")
     sv.set_defaults(func=save)
     sc = sub.add_parser("score", help="score hindsight settings on kept runs")
     sc.add_argument("--clips-dir", type=Path, required=True)

@@ -117,3 +117,15 @@ def test_a_real_clip_kept_and_scored_gives_the_benchmark_s_figures(tmp_path, cap
     assert kept["hota"] == pytest.approx(expect.hota)
     with pytest.raises(SystemExit, match="--clips takes indices"):
         script.main(["save", "--clips-dir", str(clips), "--seeds", "5", "--clips", "9", "--runs", str(runs)])
+    # with a detections folder: the detector's output is kept there and reused, and the runs are the same
+    dets = tmp_path / "dets"
+    for kept_runs in (tmp_path / "first", tmp_path / "second"):
+        assert script.main(["save", "--clips-dir", str(clips), "--seeds", "5", "--clips", "1", "--runs",
+                            str(kept_runs), "--detections", str(dets), "--tracker-config", "pose_extent=true"]) == 0
+        assert (dets / "5_1" / "detections.npz").is_file()
+        again = script.load_run(kept_runs / "5_1.npz")
+        for key, value in script.load_run(runs / "5_1.npz").items():
+            np.testing.assert_array_equal(again[key], value)
+    with pytest.raises(SystemExit, match="tracker-config"):
+        script.main(["save", "--clips-dir", str(clips), "--seeds", "5", "--runs", str(runs),
+                     "--tracker-config", "no_such_rule=1"])
