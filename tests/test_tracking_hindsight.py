@@ -4,8 +4,8 @@ start offset (hdvr.tracking.hindsight)."""
 import numpy as np
 import pytest
 
-from hdvr.tracking.hindsight import (HIDDEN_FEET_TOLERANCE, MIN_SEEN_AFTER, START_OFFSET_WEIGHT, HindsightSettings,
-                                     apply_hindsight,
+from hdvr.tracking.hindsight import (HIDDEN_FEET_TOLERANCE, HIDDEN_FILL_WEIGHT, MIN_SEEN_AFTER, START_OFFSET_WEIGHT,
+                                     HindsightSettings, apply_hindsight, fill_hidden_until_seen,
                                      enclose_keypoints,
                                      fill_occluded, hold_last_seen, interpolate_boxes, keep_start_offset,
                                      keep_feet_behind_front, occluded_stretches, smooth_boxes, start_feet,
@@ -409,6 +409,26 @@ def test_a_waiting_dancer_s_feet_stay_near_where_the_front_dancer_s_feet_put_the
     with pytest.raises(ValueError, match="tolerance"):
         keep_feet_behind_front(slid, status, feet, tolerance=-0.1)
 
+
+def test_a_wait_that_ends_seen_is_filled_by_a_line_from_the_start_to_the_first_sighting():
+    """A dancer waiting hidden from frame 0 and seen at frame 8: frames 1-7 lie on the straight line (centre and
+    size) from its frame-0 box to its frame-8 box; half way with weight 0.5; unchanged with weight 0, for a wait
+    never followed by a sighting, and for the front dancer and the frames seen."""
+    boxes, status = _stack()
+    boxes[8:, 1, 0] += 40.0  # it comes out 40 px further right than its box had drifted
+    filled = fill_hidden_until_seen(boxes, status, [(0, 1, 0)])
+    np.testing.assert_allclose(filled[1:8, 1], interpolate_boxes(boxes[0, 1], boxes[8, 1], 7))
+    np.testing.assert_array_equal(filled[[0, 8, 9, 10, 11], 1], boxes[[0, 8, 9, 10, 11], 1])
+    np.testing.assert_array_equal(filled[:, 0], boxes[:, 0])
+    half = fill_hidden_until_seen(boxes, status, [(0, 1, 0)], weight=0.5)
+    np.testing.assert_allclose(half[1:8, 1], (boxes[1:8, 1] + filled[1:8, 1]) / 2)
+    np.testing.assert_array_equal(fill_hidden_until_seen(boxes, status, [(0, 1, 0)], weight=0.0), boxes)
+    never_seen = [("tracked", "hidden")] * len(boxes)
+    np.testing.assert_array_equal(fill_hidden_until_seen(boxes, never_seen, [(0, 1, 0)]), boxes)
+    np.testing.assert_array_equal(fill_hidden_until_seen(boxes, status, []), boxes)
+    with pytest.raises(ValueError, match="weight"):
+        fill_hidden_until_seen(boxes, status, [(0, 1, 0)], weight=2.0)
+
 def test_apply_hindsight_keeps_a_hidden_start_s_offset_after_the_other_steps():
     """``apply_hindsight`` with the hidden starts moves the hidden frames of the boxes its other steps wrote, with
     the start offsets of the online boxes it was given; without them nothing moves."""
@@ -418,15 +438,16 @@ def test_apply_hindsight_keeps_a_hidden_start_s_offset_after_the_other_steps():
     plain, filled = apply_hindsight(boxes, status, keypoints)
     kept, filled_too = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)])
     np.testing.assert_array_equal(filled, filled_too)
-    np.testing.assert_allclose(kept, keep_feet_behind_front(
+    np.testing.assert_allclose(kept, fill_hidden_until_seen(keep_feet_behind_front(
         keep_start_offset(plain, status, {(1, 0): (0, 0.2)}, START_OFFSET_WEIGHT), status,
-        start_feet(boxes, [(0, 1, 0)]), HIDDEN_FEET_TOLERANCE))
+        start_feet(boxes, [(0, 1, 0)]), HIDDEN_FEET_TOLERANCE), status, [(0, 1, 0)], HIDDEN_FILL_WEIGHT))
     assert np.abs(kept[:8, 1, 0] - plain[:8, 1, 0]).max() > 1.0
 
 
 def test_apply_hindsight_takes_its_steps_settings():
-    """The default settings are the module's; other settings reach their steps (a start-offset weight of 0 moves
-    nothing, a weight of 1 moves the hidden dancer all the way to its start offset)."""
+    """The default settings are the module's; other settings reach their steps (with the wait's fill off, a
+    start-offset weight of 0 moves nothing, a weight of 1 moves the hidden dancer all the way to its start offset; the
+    fill's weight reaches its step)."""
     boxes, status = _stack()
     keypoints = np.full(boxes.shape[:2] + (25, 3), np.nan)
     keypoints[..., 2] = 0
@@ -435,11 +456,16 @@ def test_apply_hindsight_takes_its_steps_settings():
                                                            settings=HindsightSettings())[0])
     plain = apply_hindsight(boxes, status, keypoints)[0]
     none = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
-                           settings=HindsightSettings(start_offset_weight=0.0))[0]
+                           settings=HindsightSettings(start_offset_weight=0.0, hidden_fill_weight=0.0))[0]
     np.testing.assert_allclose(none, plain)
     full = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
-                           settings=HindsightSettings(start_offset_weight=1.0))[0]
+                           settings=HindsightSettings(start_offset_weight=1.0, hidden_fill_weight=0.0))[0]
     np.testing.assert_allclose(full, keep_start_offset(plain, status, {(1, 0): (0, 0.2)}, 1.0))
+    half = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
+                           settings=HindsightSettings(hidden_fill_weight=0.5))[0]
+    unfilled = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
+                               settings=HindsightSettings(hidden_fill_weight=0.0))[0]
+    np.testing.assert_allclose(half, fill_hidden_until_seen(unfilled, status, [(0, 1, 0)], 0.5))
 
 
 def test_a_dancer_hidden_again_from_a_later_start_keeps_the_offset_of_that_start():

@@ -3,7 +3,7 @@ boxes widened to their keypoints (and lowered where they reach far above a full 
 the box of a dancer waiting hidden behind another kept partly at its start offset from that dancer, its feet near
 where the front dancer's say they are.
 
-Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so seven offline steps can use the
+Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so eight offline steps can use the
 frames after each one, as offline multi-object trackers do (ByteTrack's and StrongSORT's linear interpolation of the
 missing frames of a track, StrongSORT's smoothing of the boxes):
 
@@ -18,9 +18,7 @@ and lost again would drag the whole filled stretch there (hdvr synth seed 505 hi
 re-identification on the wrong dancer that lasts drags it all the same: hindsight repeats the tracker's identity
 decisions, it does not make them. Not filled: a stretch with no seen frame after it (hidden to the end, or out of
 the frame), one after an exit from the frame, and a dancer that waits hidden behind another since its start
-(status ``hidden``): where such a dancer goes while it has never been seen is better guessed by the dancer in
-front, where its box stays, than by a straight line from its start box (measured on 936 hdvr synth clips:
-filling those stretches too lowered the mean IDF1 of the clips with a hidden start from 0.9451 to 0.9446).
+(status ``hidden``), which :func:`fill_hidden_until_seen` handles last.
 
 :func:`hold_last_seen`: a stretch that :func:`fill_occluded` leaves unfilled because nothing trusted was seen after
 it (the dancer stays hidden to the end of the video, or is lost again at once) keeps the box of the frame the dancer
@@ -78,6 +76,15 @@ clamp: boxes within the tolerance keep their place (moving every box by the fron
 part, lost more clips than it mended; 504 hdvr synth clips with the clamp: 5 up, none down; docs/benchmarks.md
 "session 49").
 
+:func:`fill_hidden_until_seen`: once a dancer that waited hidden behind another since its start is seen (status
+``tracked`` right after the wait), the boxes of the wait, as the steps above left them, are replaced by a straight
+line (centre and size) from its start box to the box it was first seen at, as :func:`fill_occluded` does for an
+occluded stretch: it walked from one to the other, while its tracker followed the dancer in front. Session 49, 504
+hdvr synth clips: 10 clips up, 4 down, failing 16 -> 15 (seed 2407 flamenco: the dancer behind walked out at frame
+21 and was first taken at frame 56; 0.892 -> 1.000); half way from the steps' boxes to the line: 8 up, 1 down, 16
+failing. (Measured on 936 clips in session 31, before the start offset and the feet: 0.9451 -> 0.9446 on the clips
+with a hidden start.) A wait never followed by a sighting keeps its boxes.
+
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
 
@@ -134,6 +141,9 @@ START_OFFSET_WEIGHT = 0.25
 #: (:func:`keep_feet_behind_front`). 504 hdvr synth clips: 0.25 5 clips up, none down (failing 17 -> 16); 0.2 7 up,
 #: 2 down; 0.3 3 up and 0.4 1 up, none down, 16 failing each (docs/benchmarks.md "session 49")
 HIDDEN_FEET_TOLERANCE = 0.25
+#: how far a waiting dancer's boxes move towards the straight line from its start box to where it was first seen
+#: (:func:`fill_hidden_until_seen`; 1: onto it, 0: not at all)
+HIDDEN_FILL_WEIGHT = 1.0
 
 
 def _runs(mask) -> list[tuple[int, int]]:
@@ -412,12 +422,36 @@ def keep_feet_behind_front(boxes: np.ndarray, status, feet: dict[tuple[int, int]
     return out
 
 
+def fill_hidden_until_seen(boxes: np.ndarray, status, hidden_starts, weight: float = HIDDEN_FILL_WEIGHT) -> np.ndarray:
+    """``boxes`` (T, N, 4) px with each wait of ``hidden_starts`` ((frame, dancer, dancer in front) triples) that ends
+    with the dancer seen (status ``hidden`` from the start frame on, then ``tracked``) moved ``weight`` of the way
+    onto the straight line (centre and size, :func:`interpolate_boxes`) from the box of the start frame to the box of
+    the first frame seen (module docstring). Frames without a box stay so; the input is not changed."""
+    boxes, status = _checked(boxes, status)
+    if not 0 <= weight <= 1:
+        raise ValueError(f"weight must be in [0, 1], got {weight}")
+    out = boxes.copy()
+    for first, dancer, _ in hidden_starts:
+        waiting = np.flatnonzero(status[first:, dancer] != HIDDEN)
+        seen = first + int(waiting[0]) if len(waiting) else len(boxes)
+        if seen >= len(boxes) or status[seen, dancer] != TRACKED or seen - first < 2:
+            continue
+        ends = boxes[[first, seen], dancer]
+        if not np.isfinite(ends).all():
+            continue
+        line = interpolate_boxes(ends[0], ends[1], seen - first - 1)
+        frames = np.arange(first + 1, seen)
+        known = np.isfinite(boxes[frames, dancer]).all(axis=1)
+        out[frames[known], dancer] = (1 - weight) * boxes[frames[known], dancer] + weight * line[known]
+    return out
+
+
 @dataclass(frozen=True)
 class HindsightSettings:
     """The settings of :func:`apply_hindsight`'s steps, the module's defaults unless given (for measuring others on
     runs already tracked, ``scripts/hindsight_runs.py``). ``keypoint_reach`` and ``head_reach`` in box heights,
-    ``smooth_window`` and ``min_seen_after`` in frames, ``start_offset_weight`` a fraction, ``hidden_feet_tolerance``
-    in box heights (``inf``: off)."""
+    ``smooth_window`` and ``min_seen_after`` in frames, ``start_offset_weight`` and ``hidden_fill_weight`` fractions,
+    ``hidden_feet_tolerance`` in box heights (``inf``: off)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
     keypoint_reach: float = KEYPOINT_REACH
@@ -425,6 +459,7 @@ class HindsightSettings:
     smooth_window: int = SMOOTH_WINDOW
     start_offset_weight: float = START_OFFSET_WEIGHT
     hidden_feet_tolerance: float = HIDDEN_FEET_TOLERANCE
+    hidden_fill_weight: float = HIDDEN_FILL_WEIGHT
 
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
@@ -434,7 +469,7 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     (``hidden_starts``: (frame, dancer, dancer in front) triples): :func:`fill_occluded`, :func:`hold_last_seen`,
     :func:`enclose_keypoints` (no wider than ``frame_width`` px), :func:`trim_above_pose`, :func:`smooth_boxes`,
     :func:`keep_start_offset` (with the start offsets of the online boxes), :func:`keep_feet_behind_front` (with
-    their start feet), in that order, with ``settings``
+    their start feet), :func:`fill_hidden_until_seen`, in that order, with ``settings``
     (default: :class:`HindsightSettings`, the module's). Returns the boxes and the (T, N) bool mask of the frames
     filled."""
     s = settings or HindsightSettings()
@@ -445,4 +480,5 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     boxes = trim_above_pose(boxes, status, keypoints, reach=s.head_reach)[0]
     boxes = smooth_boxes(boxes, status, window=s.smooth_window)
     boxes = keep_start_offset(boxes, status, offsets, weight=s.start_offset_weight)
-    return keep_feet_behind_front(boxes, status, feet, tolerance=s.hidden_feet_tolerance), filled
+    boxes = keep_feet_behind_front(boxes, status, feet, tolerance=s.hidden_feet_tolerance)
+    return fill_hidden_until_seen(boxes, status, hidden_starts, weight=s.hidden_fill_weight), filled
