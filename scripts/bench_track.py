@@ -485,7 +485,7 @@ def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3,
             spec = ClipSpec(index, seed, genre, n, seconds)
             clip = synth_clip_folder(clips_dir or tmp, spec, groups)
             if clips_dir is None or not (clip / "gt.npz").is_file() or not (clip / "video.mp4").is_file():
-                make_clip(root, spec, render=True)
+                make_clip(clip.parent, spec, render=True)
             gt, truth = _seen_truth(clip)
             n = gt.shape[1]
             order, starts = _starts_from_truth(gt)

@@ -76,3 +76,23 @@ def test_miss_cause_table_gives_each_cause_its_share_of_all_dancer_frames(monkey
     assert rows["partly"] == "| partly | 1 | 0.00 | 10.00 | 0.00 | 0.00 | 0.00 |"
     assert rows["hidden"] == "| hidden | 1 | 0.00 | 0.00 | 0.00 | 0.00 | 10.00 |"
     assert bench._miss_cause_table(0.3, {}) == []
+
+
+def test_synth_section_renders_a_missing_clip_where_it_keeps_it_and_scores_it(monkeypatch, tmp_path):
+    """The synth section renders a clip it does not find (here one 1-second swing couple, seed 5) into its
+    ``synth-SEED/clip_0000I`` folder (``synth_clip_folder``), tracks it and writes its row and per-clip figures."""
+    monkeypatch.syspath_prepend(str(SCRIPTS))
+    bench = load_script("bench_track")
+    from hdvr.pose2d.models import default_pose_model
+
+    per_clip = {}
+    lines = bench.synth_section(bench.TrackingModel(default_pose_model()), tmp_path / "work", seconds=1.0, seeds=(5,),
+                                thresholds=(0.3,), clips=(("swing", 2),), clips_dir=tmp_path / "clips",
+                                per_clip=per_clip)
+    from hdvr.synth.groundtruth import ClipSpec
+
+    clip = bench.synth_clip_folder(tmp_path / "clips", ClipSpec(0, 5, "swing", 2, 1.0))
+    assert clip == tmp_path / "clips" / "synth-5" / "clip_00000"
+    assert (clip / "gt.npz").is_file() and (clip / "video.mp4").is_file()
+    assert any(line.startswith("| 5 | clip_00000 swing | 2 | 0.3 |") for line in lines), lines
+    assert set(per_clip) == {"5:0:0.3"} and 0.0 <= per_clip["5:0:0.3"]["idf1"] <= 1.0
