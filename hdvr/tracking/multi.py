@@ -1470,9 +1470,8 @@ class MultiDancerTracker(ReportedExtent):
         c = self.config
         similarity = d.memory_match(frame)
         stored_speed = float(np.linalg.norm(d.stored_velocity))
-        in_front = c.front_keeps_motion and bool(overlapping) and all(
-            stands_in_front(d.box, self.dancers[j].box, c.pixel_front) for j in overlapping)
-        if len(d.centers) > c.motion_window and not in_front:  # a full window since (re)start
+        if len(d.centers) > c.motion_window and not self._in_front_of_all(d, overlapping):  # a full window since
+            # (re)start, and someone there could have taken its tracker (``front_keeps_motion``)
             steps = len(d.centers) - 1
             motion = d.recent_motion
             moved = float(np.linalg.norm(motion)) * steps
@@ -1502,6 +1501,13 @@ class MultiDancerTracker(ReportedExtent):
                 if similarity < other_similarity:
                     return True
         return False
+
+    def _in_front_of_all(self, d: DancerTrack, overlapping: list[int]) -> bool:
+        """With ``front_keeps_motion``, whether dancer ``d`` stands in front of every dancer it overlaps (indices
+        ``overlapping``, at least one): box bottom lower by ``pixel_front`` x the height."""
+        c = self.config
+        return c.front_keeps_motion and bool(overlapping) and all(
+            stands_in_front(d.box, self.dancers[j].box, c.pixel_front) for j in overlapping)
 
     def _couple_in_hold(self, d: DancerTrack, overlapping: list[int]) -> bool:
         """Whether ``d`` and the dancers it overlaps (indices ``overlapping``) are a couple in hold
