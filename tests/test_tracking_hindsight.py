@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from hdvr.tracking.hindsight import (HIDDEN_FEET_TOLERANCE, HIDDEN_FILL_WEIGHT, MIN_SEEN_AFTER, START_OFFSET_WEIGHT,
+                                     START_PLACE_WEIGHT, keep_start_place,
                                      HindsightSettings, apply_hindsight, fill_hidden_until_seen,
                                      enclose_keypoints,
                                      fill_occluded, hold_last_seen, interpolate_boxes, keep_start_offset,
@@ -428,6 +429,59 @@ def test_a_wait_that_ends_seen_is_filled_by_a_line_from_the_start_to_the_first_s
     np.testing.assert_array_equal(fill_hidden_until_seen(boxes, status, []), boxes)
     with pytest.raises(ValueError, match="weight"):
         fill_hidden_until_seen(boxes, status, [(0, 1, 0)], weight=2.0)
+
+def test_a_wait_never_followed_by_a_sighting_is_pulled_towards_the_start_place():
+    """A dancer waiting hidden to the end of the video (or whose wait ends occluded, or out of the frame) while its
+    box drifts onto the dancer in front: each box of the wait moves sideways ``weight`` of the way from its centre to
+    its start box's centre (size, height and top kept); weight 1 holds it at the start place, 0 moves nothing. A wait
+    that ends seen is left alone (:func:`fill_hidden_until_seen` draws its line), and so are the front dancer and
+    frames without a box. The start box may be read from other boxes (the online ones)."""
+    boxes, _ = _stack()
+    never_seen = [("tracked", "hidden")] * len(boxes)
+    start_cx = boxes[0, 1, 0] + boxes[0, 1, 2] / 2
+    centre = boxes[:, 1, 0] + boxes[:, 1, 2] / 2
+    kept = keep_start_place(boxes, never_seen, [(0, 1, 0)], weight=0.5)
+    np.testing.assert_allclose(kept[1:, 1, 0] + kept[1:, 1, 2] / 2, (centre[1:] + start_cx) / 2)
+    np.testing.assert_array_equal(kept[:, 1, 1:], boxes[:, 1, 1:])
+    np.testing.assert_array_equal(kept[:, 0], boxes[:, 0])
+    assert abs(kept[-1, 1, 0] - boxes[0, 1, 0]) == pytest.approx(abs(boxes[-1, 1, 0] - boxes[0, 1, 0]) / 2)
+    held = keep_start_place(boxes, never_seen, [(0, 1, 0)], weight=1.0)
+    np.testing.assert_allclose(held[:, 1, 0], np.full(len(boxes), boxes[0, 1, 0]))
+    np.testing.assert_array_equal(keep_start_place(boxes, never_seen, [(0, 1, 0)], weight=0.0), boxes)
+    ends_occluded = [("tracked", "hidden" if t < 8 else "occluded") for t in range(len(boxes))]
+    np.testing.assert_allclose(keep_start_place(boxes, ends_occluded, [(0, 1, 0)], weight=1.0)[1:8, 1, 0],
+                               np.full(7, boxes[0, 1, 0]))
+    np.testing.assert_array_equal(keep_start_place(boxes, ends_occluded, [(0, 1, 0)])[8:], boxes[8:])
+    _, ends_seen = _stack()
+    np.testing.assert_array_equal(keep_start_place(boxes, ends_seen, [(0, 1, 0)]), boxes)
+    np.testing.assert_array_equal(keep_start_place(boxes, never_seen, []), boxes)
+    gaps = boxes.copy()
+    gaps[5, 1] = np.nan
+    assert np.isnan(keep_start_place(gaps, never_seen, [(0, 1, 0)])[5, 1]).all()
+    elsewhere = boxes.copy()
+    elsewhere[0, 1, 0] += 30.0  # the start box read from other boxes
+    np.testing.assert_allclose(keep_start_place(boxes, never_seen, [(0, 1, 0)], 1.0, start_boxes=elsewhere)[1:, 1, 0],
+                               np.full(len(boxes) - 1, elsewhere[0, 1, 0]))
+    with pytest.raises(ValueError, match="weight"):
+        keep_start_place(boxes, never_seen, [(0, 1, 0)], weight=1.5)
+    with pytest.raises(ValueError, match="start_boxes"):
+        keep_start_place(boxes, never_seen, [(0, 1, 0)], start_boxes=boxes[:3])
+
+
+def test_apply_hindsight_pulls_a_wait_never_seen_towards_the_start_place_last():
+    """``apply_hindsight`` on a wait never followed by a sighting: its other steps' boxes, then
+    :func:`keep_start_place` towards the online start box with ``start_place_weight`` (0: off)."""
+    boxes, _ = _stack()
+    never_seen = [("tracked", "hidden")] * len(boxes)
+    keypoints = np.full(boxes.shape[:2] + (25, 3), np.nan)
+    keypoints[..., 2] = 0
+    off = apply_hindsight(boxes, never_seen, keypoints, hidden_starts=[(0, 1, 0)],
+                          settings=HindsightSettings(start_place_weight=0.0))[0]
+    kept = apply_hindsight(boxes, never_seen, keypoints, hidden_starts=[(0, 1, 0)])[0]
+    np.testing.assert_allclose(kept, keep_start_place(off, never_seen, [(0, 1, 0)], START_PLACE_WEIGHT,
+                                                      start_boxes=boxes))
+    assert np.abs(kept[1:, 1, 0] - off[1:, 1, 0]).max() > 1.0
+
 
 def test_apply_hindsight_keeps_a_hidden_start_s_offset_after_the_other_steps():
     """``apply_hindsight`` with the hidden starts moves the hidden frames of the boxes its other steps wrote, with

@@ -69,8 +69,10 @@ def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
 def test_a_dancer_waiting_hidden_keeps_part_of_its_start_offset_in_the_boxes_written(tmp_path):
     """The boxes written for a dancer waiting hidden behind another are the online boxes put through
     ``apply_hindsight`` with the run's hidden starts: moved a quarter of the way back to its start offset from
-    the dancer in front (with no detector the walker never comes out, and waits all clip)."""
-    from hdvr.tracking.hindsight import START_OFFSET_WEIGHT, apply_hindsight, start_offsets
+    the dancer in front, then (with no detector the walker never comes out, and waits all clip: a wait never seen)
+    half way towards its start place."""
+    from hdvr.tracking.hindsight import (START_OFFSET_WEIGHT, START_PLACE_WEIGHT, HindsightSettings, apply_hindsight,
+                                         keep_start_place, start_offsets)
     from hdvr.tracking.pipeline import track_video
 
     path = tmp_path / "stack.mp4"
@@ -80,17 +82,20 @@ def test_a_dancer_waiting_hidden_keeps_part_of_its_start_offset_in_the_boxes_wri
     assert runs[True].hidden_starts == runs[False].hidden_starts == [(0, 1, 0)]
     hidden = [t for t, s in enumerate(runs[True].status) if s[1] == "hidden"]
     assert hidden == list(range(30))
-    online = runs[False].boxes
-    expected = apply_hindsight(online, runs[False].status, runs[False].keypoints, frame_width=320,
-                               hidden_starts=[(0, 1, 0)])[0]
+    online, status = runs[False].boxes, runs[False].status
+    expected = apply_hindsight(online, status, runs[False].keypoints, frame_width=320, hidden_starts=[(0, 1, 0)])[0]
     np.testing.assert_allclose(runs[True].boxes, expected)
-    plain = apply_hindsight(online, runs[False].status, runs[False].keypoints, frame_width=320)[0]
+    plain = apply_hindsight(online, status, runs[False].keypoints, frame_width=320)[0]
+    offset_only = apply_hindsight(online, status, runs[False].keypoints, frame_width=320, hidden_starts=[(0, 1, 0)],
+                                  settings=HindsightSettings(start_place_weight=0.0))[0]
     centre = lambda b: b[:, 0] + b[:, 2] / 2  # noqa: E731
     front, offset = start_offsets(online, [(0, 1, 0)])[(1, 0)]
     assert front == 0 and offset != 0
     now = (centre(plain[:, 1]) - centre(plain[:, front])) / plain[:, 1, 3]
-    np.testing.assert_allclose((centre(expected[:, 1]) - centre(plain[:, 1])) / plain[:, 1, 3],
+    np.testing.assert_allclose((centre(offset_only[:, 1]) - centre(plain[:, 1])) / plain[:, 1, 3],
                                START_OFFSET_WEIGHT * (offset - now), atol=1e-9)
+    np.testing.assert_allclose(expected, keep_start_place(offset_only, status, [(0, 1, 0)], START_PLACE_WEIGHT,
+                                                          start_boxes=online))
 
 
 def test_track_starts_a_hidden_dancer_later_from_a_boxes_file(tmp_path, capsys):

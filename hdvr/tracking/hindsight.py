@@ -83,7 +83,16 @@ occluded stretch: it walked from one to the other, while its tracker followed th
 hdvr synth clips: 10 clips up, 4 down, failing 16 -> 15 (seed 2407 flamenco: the dancer behind walked out at frame
 21 and was first taken at frame 56; 0.892 -> 1.000); half way from the steps' boxes to the line: 8 up, 1 down, 16
 failing. (Measured on 936 clips in session 31, before the start offset and the feet: 0.9451 -> 0.9446 on the clips
-with a hidden start.) A wait never followed by a sighting keeps its boxes.
+with a hidden start.)
+
+:func:`keep_start_place`: a wait never followed by a sighting (the dancer stays hidden to the end, or is next
+occluded or out of the frame) has no such end to draw a line to; its boxes are moved sideways ``weight`` (0.5) of the
+way towards where the dancer started, as :func:`hold_last_seen` holds an occluded dancer where it was last seen: a
+dancer that stays hidden behind others all along has mostly stayed where it was (it would show had it moved out),
+while its own tracker drifts with the dancers in front. Session 50: 504 hdvr synth clips failing 15 -> 15 (17 clips
+up, 9 down; 202 ballet 0.842 -> 0.908), and 240 fresh clips (seeds 2601-2640, never tuned on) 18 -> 15 (10 up, 9
+down; 2633 hip-hop 0.800 with 2 switches -> 0.994 with none); weights 0.35 and 0.65 gave 16 each there, the whole way
+18 (and 17 on the 504); every wait, also those later seen, 17 on the 504.
 
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
@@ -144,6 +153,10 @@ HIDDEN_FEET_TOLERANCE = 0.25
 #: how far a waiting dancer's boxes move towards the straight line from its start box to where it was first seen
 #: (:func:`fill_hidden_until_seen`; 1: onto it, 0: not at all)
 HIDDEN_FILL_WEIGHT = 1.0
+#: how far the boxes of a wait never followed by a sighting move sideways towards the dancer's start place
+#: (:func:`keep_start_place`; chosen in session 50 on 504 tuned and 240 fresh hdvr synth clips: 0.35, 0.5, 0.65, 0.8
+#: and 1 gave 15+16, 15+15, 15+16, 15+16 and 17+18 failing)
+START_PLACE_WEIGHT = 0.5
 
 
 def _runs(mask) -> list[tuple[int, int]]:
@@ -446,11 +459,41 @@ def fill_hidden_until_seen(boxes: np.ndarray, status, hidden_starts, weight: flo
     return out
 
 
+def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = START_PLACE_WEIGHT,
+                     start_boxes: np.ndarray | None = None) -> np.ndarray:
+    """``boxes`` (T, N, 4) px with the boxes of each wait of ``hidden_starts`` ((frame, dancer, dancer in front)
+    triples) that is never followed by a sighting (the dancer is still ``hidden`` at the end of the video, or its
+    wait ends with any status but ``tracked``) moved sideways ``weight`` of the way from their centre to the centre
+    of its start box (module docstring). ``start_boxes`` (T, N, 4) px: where the start boxes are read (default
+    ``boxes``; :func:`apply_hindsight` gives the online boxes). A wait that ends seen is left to
+    :func:`fill_hidden_until_seen`. Size, height and frames without a box are kept; the input is not changed."""
+    boxes, status = _checked(boxes, status)
+    if not 0 <= weight <= 1:
+        raise ValueError(f"weight must be in [0, 1], got {weight}")
+    start_boxes = boxes if start_boxes is None else np.asarray(start_boxes, float)
+    if start_boxes.shape != boxes.shape:
+        raise ValueError(f"start_boxes must be {boxes.shape} like boxes, got {start_boxes.shape}")
+    out = boxes.copy()
+    for first, dancer, _ in hidden_starts if weight > 0 else ():  # 0: off, the boxes exactly as they were
+        waiting = np.flatnonzero(status[first:, dancer] != HIDDEN)
+        end = first + int(waiting[0]) if len(waiting) else len(boxes)
+        start = start_boxes[first, dancer]
+        if (end < len(boxes) and status[end, dancer] == TRACKED) or not np.isfinite(start).all():
+            continue
+        frames = np.arange(first + 1, end)
+        frames = frames[np.isfinite(boxes[frames, dancer]).all(axis=1)]
+        centre = boxes[frames, dancer, 0] + boxes[frames, dancer, 2] / 2
+        target = start[0] + start[2] / 2
+        out[frames, dancer, 0] = (1 - weight) * centre + weight * target - boxes[frames, dancer, 2] / 2
+    return out
+
+
 @dataclass(frozen=True)
 class HindsightSettings:
     """The settings of :func:`apply_hindsight`'s steps, the module's defaults unless given (for measuring others on
     runs already tracked, ``scripts/hindsight_runs.py``). ``keypoint_reach`` and ``head_reach`` in box heights,
-    ``smooth_window`` and ``min_seen_after`` in frames, ``start_offset_weight`` and ``hidden_fill_weight`` fractions,
+    ``smooth_window`` and ``min_seen_after`` in frames, ``start_offset_weight``, ``hidden_fill_weight`` and
+    ``start_place_weight`` fractions,
     ``hidden_feet_tolerance`` in box heights (``inf``: off)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
@@ -460,6 +503,7 @@ class HindsightSettings:
     start_offset_weight: float = START_OFFSET_WEIGHT
     hidden_feet_tolerance: float = HIDDEN_FEET_TOLERANCE
     hidden_fill_weight: float = HIDDEN_FILL_WEIGHT
+    start_place_weight: float = START_PLACE_WEIGHT
 
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
@@ -469,11 +513,13 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     (``hidden_starts``: (frame, dancer, dancer in front) triples): :func:`fill_occluded`, :func:`hold_last_seen`,
     :func:`enclose_keypoints` (no wider than ``frame_width`` px), :func:`trim_above_pose`, :func:`smooth_boxes`,
     :func:`keep_start_offset` (with the start offsets of the online boxes), :func:`keep_feet_behind_front` (with
-    their start feet), :func:`fill_hidden_until_seen`, in that order, with ``settings``
+    their start feet), :func:`fill_hidden_until_seen`, :func:`keep_start_place` (towards the online start boxes),
+    in that order, with ``settings``
     (default: :class:`HindsightSettings`, the module's). Returns the boxes and the (T, N) bool mask of the frames
     filled."""
     s = settings or HindsightSettings()
-    offsets, feet = start_offsets(boxes, hidden_starts), start_feet(boxes, hidden_starts)
+    online = np.asarray(boxes, float)
+    offsets, feet = start_offsets(online, hidden_starts), start_feet(online, hidden_starts)
     boxes, filled = fill_occluded(boxes, status, min_seen_after=s.min_seen_after)
     boxes = hold_last_seen(boxes, status, filled)[0]
     boxes = enclose_keypoints(boxes, status, keypoints, reach=s.keypoint_reach, frame_width=frame_width)[0]
@@ -481,4 +527,5 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     boxes = smooth_boxes(boxes, status, window=s.smooth_window)
     boxes = keep_start_offset(boxes, status, offsets, weight=s.start_offset_weight)
     boxes = keep_feet_behind_front(boxes, status, feet, tolerance=s.hidden_feet_tolerance)
-    return fill_hidden_until_seen(boxes, status, hidden_starts, weight=s.hidden_fill_weight), filled
+    boxes = fill_hidden_until_seen(boxes, status, hidden_starts, weight=s.hidden_fill_weight)
+    return keep_start_place(boxes, status, hidden_starts, weight=s.start_place_weight, start_boxes=online), filled
