@@ -40,6 +40,8 @@ BEFORE_AFTER = (
     (113, 5, "ballet", 4, 60, "hidden_min_aspect", "tracking_amodal_s113_ballet_060.jpg"),
     (2505, 1, "swing", 2, 66, "hold_within_cover", "tracking_hold_within_cover_s2505_swing_066.jpg"),
     (2202, 4, "hip_hop", 4, 100, "front_keeps_motion", "tracking_front_keeps_motion_s2202_hip_hop_100.jpg"),
+    (2622, 2, "hip_hop", 3, 90, "stuck_persist", "tracking_stuck_persist_s2622_hip_hop_090.jpg"),
+    (2624, 2, "hip_hop", 3, 60, "emerge_past_waiting", "tracking_emerge_past_waiting_s2624_hip_hop_060.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (

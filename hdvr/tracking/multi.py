@@ -196,6 +196,12 @@ class MultiTrackerConfig:
     emerge_max_aspect: float = 2.0  # ... and its width / height at most this factor of the dancer's box's: a wider
     # one is a part of a dancer that YOLO drew as a person, e.g. the spread arm of the dancer in front (seed 1308
     # hip-hop; cached synthetic clips: 8 of 864 up, none down, 4 switches fewer; docs/tracking.md, session 26)
+    emerge_past_waiting: bool = True  # ... another dancer still waiting so (not the one hiding this one) does not
+    # stand in the way of that detection when it fits the detection less well (IoU) than this one's box: its box is a
+    # guess where it may be, not a sighting (hdvr synth seed 2624 hip-hop: two dancers started behind the same one, who
+    # walked away; the first, seen whole and detected for 90 frames, never came out because the second's box, still
+    # at the start, lay on her). The dancer hiding this one still stands in the way when it waits itself (a stack of
+    # three: seed 2507 flamenco, the dancer at the back took the middle one's detection, 0.967 -> 0.800)
     hidden_front_rival: bool = True  # while such a dancer waits, the dancer hiding it is one more rival when it is
     # re-identified (its memory shows that dancer: a patch of it would match). Cached synthetic clips: seeds 201-212
     # and 151-199 mean IDF1 0.9578 -> 0.9585, identity switches 23 -> 15; seeds 7-139 and groups of 6-8 unchanged
@@ -305,6 +311,14 @@ class MultiTrackerConfig:
     long_lost_detections: int = 8  # detector frames in a row without a person on a clear dancer's box = long lost
     recovery_frames: int = 30  # frames after such a recovery in which the box restarts on any detection on it
     recovery_height_change: float = 2.5  # ... whose height is within this factor of the box's
+    stuck_persist: int = 3  # with N > 0, a clear dancer whose box holds one person alone (on the box: matched, so never
+    # counted missed) that lies too far off to adapt it (IoU <= ``adapt_min_iou``) and reaches out of the box's
+    # columns (containment at most ``adapt_min_containment``: a person inside a wide box is the dancer with its arms
+    # left out) on N detector frames in a row restarts on that person (:meth:`MultiDancerTracker._restart_on_stuck`):
+    # a box left behind by a floor move or a turn keeps half the person and is never found lost (hdvr synth seed 2622
+    # hip-hop: a dancer got up from the floor, her box stayed low and 50 px aside for 45 frames with her detection on
+    # it each detector frame). Without the containment test it also fired on detections inside wide boxes (seeds
+    # 2109 swing 0.994 -> 0.939, 2511 ballet 1.000 -> 0.975)
     lost_search_heights: float = 3.0  # a lost dancer is searched among detections this many box heights away
     adapt_in_groups: bool = False  # boxes of overlapping dancers adapt to detections assigned unambiguously
     # (:meth:`MultiDancerTracker._adapt_in_group`). Off: on the synthetic clips of hdvr.synth it raised mean IDF1
@@ -783,6 +797,7 @@ class MultiDancerTracker(ReportedExtent):
                 elif self._walked_out(frame, d):
                     self._set_out(d, d.detected_at_edge)
                     continue
+                stuck = False
                 if len(matches) == 1 and t <= d.recovering_until and \
                         self._single_person(d, matches[0], c.recovery_height_change):
                     # just recovered, moving fast and changing shape (e.g. a flip): follow the detector
@@ -800,6 +815,12 @@ class MultiDancerTracker(ReportedExtent):
                         box_iou(d.box, matches[0]) > c.adapt_min_iou and \
                         self._beside_partner(d, matches[0], detections):
                     self._adapt_height(d, matches[0])
+                else:  # a person on the box reaching out of its columns: the box lies off it
+                    stuck = len(matches) == 1 and not fronting and self._single_person(d, matches[0]) and \
+                        self._containment(matches[0], d.box) <= c.adapt_min_containment
+                d.stuck = d.stuck + 1 if stuck else 0
+                if c.stuck_persist and d.stuck >= c.stuck_persist:
+                    self._restart_on_stuck(d, frame, matches[0])
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
                     continue
@@ -1092,6 +1113,18 @@ class MultiDancerTracker(ReportedExtent):
         d.detected_at_edge = None
         d.centers, d.clear_track = [d.body_center], []
         d.stored_box, d.stored_frame = d.box, self.frame_index
+
+    def _restart_on_stuck(self, d: DancerTrack, frame, detection) -> None:
+        """Dancer ``d``, clear of the others, has had ``detection`` (x, y, w, h px), one person alone, on its box for
+        ``stuck_persist`` detector frames in a row without being able to adapt to it (too far off): its box moves
+        onto it (centred there, at the dancer's box-to-detection size, :meth:`_box_size`) and its tracker restarts
+        there. Its colour memory and stored velocity are kept (no re-identification happens)."""
+        cut = self._cut_by_edge([detection]) is not None
+        w, h = self._box_size(d, np.asarray(detection[2:], float), cut)
+        cx, cy = box_centre(detection)
+        velocity = d.stored_velocity
+        self._restart(d, frame, (cx - w / 2, cy - h / 2, float(w), float(h)), d.confidence)
+        d.stored_velocity, d.stuck, d.adapted_at = velocity, 0, self.frame_index
 
     def _single_person(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
         """Whether ``detection`` can be dancer ``d`` alone: its body core overlaps no other dancer's, its height
@@ -1681,8 +1714,11 @@ class MultiDancerTracker(ReportedExtent):
                 distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
                 if distance > best_distance:
                     continue
+                fit = box_iou(det, d.box)
                 overlaps = [(o, self._bodies_overlap(det, o.box)) for o in self.dancers
-                            if o is not d and o.status != OUT]
+                            if o is not d and o.status != OUT and not (
+                                c.emerge_past_waiting and o.hidden_behind is not None
+                                and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
                 overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
                 if overlapped and (not c.emerge_beside_persist
                                    or max(v for _, v in overlaps) >= c.emerge_beside_overlap):

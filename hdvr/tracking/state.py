@@ -50,6 +50,7 @@ class DancerTrack:
     # on the left, top, right and bottom (:meth:`hdvr.tracking.extent.ReportedExtent.extend_to_poses`)
     last_status: str = TRACKED  # status in the frame before
     adapted_at: int = -1  # last frame in which the box adapted to a detection while clear
+    stuck: int = 0  # detector frames in a row in which the one person on its clear box was too far off to adapt it
     edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
     detected_at_edge: str | None = None  # "left" or "right": the last detection on the box was cut by that edge
     # detections half beside the dancers in front that a dancer waiting behind them could come out on
