@@ -462,6 +462,9 @@ def test_a_wait_never_followed_by_a_sighting_is_pulled_towards_the_start_place()
     elsewhere[0, 1, 0] += 30.0  # the start box read from other boxes
     np.testing.assert_allclose(keep_start_place(boxes, never_seen, [(0, 1, 0)], 1.0, start_boxes=elsewhere)[1:, 1, 0],
                                np.full(len(boxes) - 1, elsewhere[0, 1, 0]))
+    again = keep_start_place(boxes, never_seen, [(0, 1, 0), (6, 1, 0)], weight=1.0)  # corrected behind him at 6
+    np.testing.assert_array_equal(again[1:7, 1], boxes[1:7, 1])
+    np.testing.assert_allclose(again[7:, 1, 0], np.full(len(boxes) - 7, boxes[6, 1, 0]))
     with pytest.raises(ValueError, match="weight"):
         keep_start_place(boxes, never_seen, [(0, 1, 0)], weight=1.5)
     with pytest.raises(ValueError, match="start_boxes"):

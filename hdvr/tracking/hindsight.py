@@ -464,7 +464,8 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
     """``boxes`` (T, N, 4) px with the boxes of each wait of ``hidden_starts`` ((frame, dancer, dancer in front)
     triples) that is never followed by a sighting (the dancer is still ``hidden`` at the end of the video, or its
     wait ends with any status but ``tracked``) moved sideways ``weight`` of the way from their centre to the centre
-    of its start box (module docstring). ``start_boxes`` (T, N, 4) px: where the start boxes are read (default
+    of its start box (module docstring); a wait that a later start of the same dancer (a user's correction behind
+    another dancer) cuts short is left as it is. ``start_boxes`` (T, N, 4) px: where the start boxes are read (default
     ``boxes``; :func:`apply_hindsight` gives the online boxes). A wait that ends seen is left to
     :func:`fill_hidden_until_seen`. Size, height and frames without a box are kept; the input is not changed."""
     boxes, status = _checked(boxes, status)
@@ -474,9 +475,12 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
     if start_boxes.shape != boxes.shape:
         raise ValueError(f"start_boxes must be {boxes.shape} like boxes, got {start_boxes.shape}")
     out = boxes.copy()
+    spans = _start_spans({(int(d), int(f)): None for f, d, _ in hidden_starts}, len(boxes))
     for first, dancer, _ in hidden_starts if weight > 0 else ():  # 0: off, the boxes exactly as they were
         waiting = np.flatnonzero(status[first:, dancer] != HIDDEN)
         end = first + int(waiting[0]) if len(waiting) else len(boxes)
+        if spans[(int(dancer), int(first))] < end:  # hidden again from a later start (a correction): its own place
+            continue
         start = start_boxes[first, dancer]
         if (end < len(boxes) and status[end, dancer] == TRACKED) or not np.isfinite(start).all():
             continue

@@ -314,7 +314,8 @@ class MultiTrackerConfig:
     stuck_persist: int = 3  # with N > 0, a clear dancer whose box holds one person alone (on the box: matched, so never
     # counted missed) that lies too far off to adapt it (IoU <= ``adapt_min_iou``) and reaches out of the box's
     # columns (containment at most ``adapt_min_containment``: a person inside a wide box is the dancer with its arms
-    # left out) on N detector frames in a row restarts on that person (:meth:`MultiDancerTracker._restart_on_stuck`):
+    # left out) on N of its clear detector frames in a row (frames it overlaps others neither count nor break the
+    # run; a detector frame on which it is clear without such a person does) restarts on that person (:meth:`MultiDancerTracker._restart_on_stuck`):
     # a box left behind by a floor move or a turn keeps half the person and is never found lost (hdvr synth seed 2622
     # hip-hop: a dancer got up from the floor, her box stayed low and 50 px aside for 45 frames with her detection on
     # it each detector frame). Without the containment test it also fired on detections inside wide boxes (seeds
