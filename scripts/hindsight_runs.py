@@ -10,6 +10,8 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
     # track each clip once (YOLO11n-pose at 480 px every 3rd frame, as the benchmark), hindsight off
     python3 scripts/hindsight_runs.py save --clips-dir CLIPS --seeds 201,202 --runs RUNS \
         [--detections DETS] [--tracker-config NAME=VALUE,...]
+    # or only some clips again, by their runs' names
+    python3 scripts/hindsight_runs.py save --clips-dir CLIPS --keys 2624_2,2507_3 --runs RUNS --detections DETS
     # score hindsight settings on the kept runs
     python3 scripts/hindsight_runs.py score --clips-dir CLIPS --runs RUNS [--set keypoint_reach=0.1 ...] \\
         [--per-clip-json F.json]
@@ -114,31 +116,44 @@ def _integers(text: str) -> list[int]:
         raise SystemExit(f"hindsight_runs: --seeds and --clips take comma-separated integers, got {text!r}")
 
 
+def _key(text: str) -> tuple[int, int]:
+    """(seed, clip index) of a kept run's name ``SEED_INDEX``; a clear error otherwise."""
+    try:
+        seed, index = (int(v) for v in text.strip().split("_"))
+    except ValueError:
+        raise SystemExit(f"hindsight_runs: --keys takes SEED_INDEX names (as the kept runs'), got {text!r}")
+    return seed, index
+
+
 def save(args) -> int:
     from hdvr.synth.groundtruth import make_clip
 
+    if args.keys:
+        pairs = [_key(k) for k in args.keys.split(",") if k.strip()]
+    elif args.seeds:
+        indices = _integers(args.clips) if args.clips else list(range(len(SYNTH_CLIPS)))
+        pairs = [(seed, index) for seed in _integers(args.seeds) for index in indices]
+    else:
+        raise SystemExit("hindsight_runs: save needs --seeds (and optionally --clips) or --keys")
+    if any(not 0 <= i < len(SYNTH_CLIPS) for _, i in pairs):
+        raise SystemExit(f"hindsight_runs: clip indices are 0-{len(SYNTH_CLIPS) - 1}, got {args.clips or args.keys!r}")
     config = parse_tracker_config(args.tracker_config)
     args.runs.mkdir(parents=True, exist_ok=True)
     detector = default_tracking_detector()
-    seeds = _integers(args.seeds)
-    indices = _integers(args.clips) if args.clips else list(range(len(SYNTH_CLIPS)))
-    if any(not 0 <= i < len(SYNTH_CLIPS) for i in indices):
-        raise SystemExit(f"hindsight_runs: --clips takes indices 0-{len(SYNTH_CLIPS) - 1}, got {args.clips!r}")
-    total, done = len(seeds) * len(indices), 0
-    for seed in seeds:
-        for index in indices:
-            spec = clip_spec(seed, index, args.seconds)
-            clip = synth_clip_folder(args.clips_dir, spec)
-            if not (clip / "gt.npz").is_file() or not (clip / "video.mp4").is_file():
-                make_clip(clip.parent, spec, render=True)
-            truth_boxes, _ = _seen_truth(clip)
-            order, starts = _starts_from_truth(truth_boxes)
-            cached = args.detections / f"{seed}_{index}" if args.detections else None  # outputs and detections
-            run = track_synth_clip(clip, cached or args.runs / "work", detector, starts, config, hindsight=False,
-                                   write=cached is not None)
-            save_run(args.runs / f"{seed}_{index}.npz", run, order)
-            done += 1
-            print(f"\r{done}/{total} clips tracked", end="", file=sys.stderr, flush=True)
+    total, done = len(pairs), 0
+    for seed, index in pairs:
+        spec = clip_spec(seed, index, args.seconds)
+        clip = synth_clip_folder(args.clips_dir, spec)
+        if not (clip / "gt.npz").is_file() or not (clip / "video.mp4").is_file():
+            make_clip(clip.parent, spec, render=True)
+        truth_boxes, _ = _seen_truth(clip)
+        order, starts = _starts_from_truth(truth_boxes)
+        cached = args.detections / f"{seed}_{index}" if args.detections else None  # outputs and detections
+        run = track_synth_clip(clip, cached or args.runs / "work", detector, starts, config, hindsight=False,
+                               write=cached is not None)
+        save_run(args.runs / f"{seed}_{index}.npz", run, order)
+        done += 1
+        print(f"\r{done}/{total} clips tracked", end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
     return 0
 
@@ -173,7 +188,9 @@ def main(argv=None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
     sv = sub.add_parser("save", help="track clips once with hindsight off and keep the runs")
     sv.add_argument("--clips-dir", type=Path, required=True)
-    sv.add_argument("--seeds", required=True, help="comma-separated seeds (6 clips each, bench_track's SYNTH_CLIPS)")
+    sv.add_argument("--seeds", help="comma-separated seeds (6 clips each, bench_track's SYNTH_CLIPS)")
+    sv.add_argument("--keys", help="comma-separated SEED_INDEX clips to track instead of --seeds/--clips (e.g. again "
+                                   "only those a rule can change)")
     sv.add_argument("--runs", type=Path, required=True, help="folder for the kept runs")
     sv.add_argument("--clips", help="comma-separated clip indices per seed (default all: "
                     + ", ".join(f"{i} {g} {n}" for i, (g, n) in enumerate(SYNTH_CLIPS)) + ")")

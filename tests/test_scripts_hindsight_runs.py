@@ -115,8 +115,12 @@ def test_a_real_clip_kept_and_scored_gives_the_benchmark_s_figures(tmp_path, cap
     expect = evaluate_tracking(truth_boxes, direct.boxes[:, np.argsort(order)])
     assert kept["idf1"] == pytest.approx(expect.idf1) and kept["id_switches"] == expect.id_switches
     assert kept["hota"] == pytest.approx(expect.hota)
-    with pytest.raises(SystemExit, match="--clips takes indices"):
+    with pytest.raises(SystemExit, match="clip indices are 0-5"):
         script.main(["save", "--clips-dir", str(clips), "--seeds", "5", "--clips", "9", "--runs", str(runs)])
+    with pytest.raises(SystemExit, match="SEED_INDEX"):
+        script.main(["save", "--clips-dir", str(clips), "--keys", "5-1", "--runs", str(runs)])
+    with pytest.raises(SystemExit, match="--seeds .* or --keys"):
+        script.main(["save", "--clips-dir", str(clips), "--runs", str(runs)])
     # with a detections folder: the detector's output is kept there and reused, and the runs are the same
     dets = tmp_path / "dets"
     for kept_runs in (tmp_path / "first", tmp_path / "second"):
@@ -126,6 +130,11 @@ def test_a_real_clip_kept_and_scored_gives_the_benchmark_s_figures(tmp_path, cap
         again = script.load_run(kept_runs / "5_1.npz")
         for key, value in script.load_run(runs / "5_1.npz").items():
             np.testing.assert_array_equal(again[key], value)
+    # one clip again by its run's name (--keys): the same run
+    assert script.main(["save", "--clips-dir", str(clips), "--keys", "5_1", "--runs", str(tmp_path / "third"),
+                        "--detections", str(dets)]) == 0
+    for key, value in script.load_run(runs / "5_1.npz").items():
+        np.testing.assert_array_equal(script.load_run(tmp_path / "third" / "5_1.npz")[key], value)
     with pytest.raises(SystemExit, match="tracker-config"):
         script.main(["save", "--clips-dir", str(clips), "--seeds", "5", "--runs", str(runs),
                      "--tracker-config", "no_such_rule=1"])
