@@ -92,7 +92,9 @@ dancer that stays hidden behind others all along has mostly stayed where it was 
 while its own tracker drifts with the dancers in front. Session 50: 504 hdvr synth clips failing 15 -> 15 (17 clips
 up, 9 down; 202 ballet 0.842 -> 0.908), and 240 fresh clips (seeds 2601-2640, never tuned on) 18 -> 15 (10 up, 9
 down; 2633 hip-hop 0.800 with 2 switches -> 0.994 with none); weights 0.35 and 0.65 gave 16 each there, the whole way
-18 (and 17 on the 504); every wait, also those later seen, 17 on the 504.
+18 (and 17 on the 504); every wait, also those later seen, 17 on the 504. On a second fresh set scored once at the end
+(seeds 2641-2680) it loses a little: 8 -> 8 failing, 1 clip up, 5 down (one of them a clip whose tracks were already
+swapped); over all 984 clips failing 41 -> 38 (docs/benchmarks.md "session 50").
 
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
