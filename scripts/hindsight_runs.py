@@ -8,7 +8,7 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
 ``bench_track.py --sections synth --synth-thresholds 0.3`` (same clips, same detector, same starts).
 
     # track each clip once (YOLO11n-pose at 480 px every 3rd frame, as the benchmark), hindsight off
-    python3 scripts/hindsight_runs.py save --clips-dir CLIPS --seeds 201,202 --runs RUNS \
+    python3 scripts/hindsight_runs.py save --clips-dir CLIPS --seeds 201,202 --runs RUNS \\
         [--detections DETS] [--tracker-config NAME=VALUE,...]
     # or only some clips again, by their runs' names
     python3 scripts/hindsight_runs.py save --clips-dir CLIPS --keys 2624_2,2507_3 --runs RUNS --detections DETS

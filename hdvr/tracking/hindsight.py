@@ -363,11 +363,18 @@ def start_offsets(boxes: np.ndarray, hidden_starts) -> dict[tuple[int, int], tup
 
 
 def _start_spans(starts, num_frames: int) -> dict[tuple[int, int], int]:
-    """For each (dancer, frame) start of ``starts`` (a dict keyed so), the frame its span ends (exclusive): the
-    dancer's next start, or ``num_frames``."""
+    """For each (dancer, frame) start of ``starts`` (a dict keyed so, or a set of such pairs), the frame its span
+    ends (exclusive): the dancer's next start, or ``num_frames``."""
     keys = sorted(starts)
     return {(dancer, first): next((f for d, f in keys[k + 1:] if d == dancer), num_frames)
             for k, (dancer, first) in enumerate(keys)}
+
+
+def _wait_end(status: np.ndarray, dancer: int, first: int) -> int:
+    """The first frame from ``first`` on where ``dancer`` no longer waits hidden (status ``hidden``) in ``status``
+    (T, N), or T: the frame its wait ends."""
+    after = np.flatnonzero(status[first:, dancer] != HIDDEN)
+    return first + int(after[0]) if len(after) else len(status)
 
 
 def _waiting_frames(boxes: np.ndarray, status: np.ndarray, dancer: int, front: int, first: int,
@@ -447,8 +454,7 @@ def fill_hidden_until_seen(boxes: np.ndarray, status, hidden_starts, weight: flo
         raise ValueError(f"weight must be in [0, 1], got {weight}")
     out = boxes.copy()
     for first, dancer, _ in hidden_starts:
-        waiting = np.flatnonzero(status[first:, dancer] != HIDDEN)
-        seen = first + int(waiting[0]) if len(waiting) else len(boxes)
+        seen = _wait_end(status, dancer, first)
         if seen >= len(boxes) or status[seen, dancer] != TRACKED or seen - first < 2:
             continue
         ends = boxes[[first, seen], dancer]
@@ -477,10 +483,9 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
     if start_boxes.shape != boxes.shape:
         raise ValueError(f"start_boxes must be {boxes.shape} like boxes, got {start_boxes.shape}")
     out = boxes.copy()
-    spans = _start_spans({(int(d), int(f)): None for f, d, _ in hidden_starts}, len(boxes))
+    spans = _start_spans({(int(d), int(f)) for f, d, _ in hidden_starts}, len(boxes))
     for first, dancer, _ in hidden_starts if weight > 0 else ():  # 0: off, the boxes exactly as they were
-        waiting = np.flatnonzero(status[first:, dancer] != HIDDEN)
-        end = first + int(waiting[0]) if len(waiting) else len(boxes)
+        end = _wait_end(status, dancer, first)
         if spans[(int(dancer), int(first))] < end:  # hidden again from a later start (a correction): its own place
             continue
         start = start_boxes[first, dancer]

@@ -315,11 +315,11 @@ class MultiTrackerConfig:
     # counted missed) that lies too far off to adapt it (IoU <= ``adapt_min_iou``) and reaches out of the box's
     # columns (containment at most ``adapt_min_containment``: a person inside a wide box is the dancer with its arms
     # left out) on N of its clear detector frames in a row (frames it overlaps others neither count nor break the
-    # run; a detector frame on which it is clear without such a person does) restarts on that person (:meth:`MultiDancerTracker._restart_on_stuck`):
-    # a box left behind by a floor move or a turn keeps half the person and is never found lost (hdvr synth seed 2622
-    # hip-hop: a dancer got up from the floor, her box stayed low and 50 px aside for 45 frames with her detection on
-    # it each detector frame). Without the containment test it also fired on detections inside wide boxes (seeds
-    # 2109 swing 0.994 -> 0.939, 2511 ballet 1.000 -> 0.975)
+    # run; a detector frame on which it is clear without such a person does) restarts on that person
+    # (:meth:`MultiDancerTracker._restart_on_stuck`): a box left behind by a floor move or a turn keeps half the
+    # person and is never found lost (hdvr synth seed 2622 hip-hop: a dancer got up from the floor, her box stayed low
+    # and 50 px aside for 45 frames with her detection on it each detector frame). Without the containment test it
+    # also fired on detections inside wide boxes (seeds 2109 swing 0.994 -> 0.939, 2511 ballet 1.000 -> 0.975)
     lost_search_heights: float = 3.0  # a lost dancer is searched among detections this many box heights away
     adapt_in_groups: bool = False  # boxes of overlapping dancers adapt to detections assigned unambiguously
     # (:meth:`MultiDancerTracker._adapt_in_group`). Off: on the synthetic clips of hdvr.synth it raised mean IDF1
@@ -1119,13 +1119,13 @@ class MultiDancerTracker(ReportedExtent):
         """Dancer ``d``, clear of the others, has had ``detection`` (x, y, w, h px), one person alone, on its box for
         ``stuck_persist`` detector frames in a row without being able to adapt to it (too far off): its box moves
         onto it (centred there, at the dancer's box-to-detection size, :meth:`_box_size`) and its tracker restarts
-        there. Its colour memory and stored velocity are kept (no re-identification happens)."""
+        there. Its colour memory and stored velocity are kept (no re-identification happens; :meth:`_restart`
+        touches neither)."""
         cut = self._cut_by_edge([detection]) is not None
         w, h = self._box_size(d, np.asarray(detection[2:], float), cut)
         cx, cy = box_centre(detection)
-        velocity = d.stored_velocity
         self._restart(d, frame, (cx - w / 2, cy - h / 2, float(w), float(h)), d.confidence)
-        d.stored_velocity, d.stuck, d.adapted_at = velocity, 0, self.frame_index
+        d.stuck, d.adapted_at = 0, self.frame_index
 
     def _single_person(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
         """Whether ``detection`` can be dancer ``d`` alone: its body core overlaps no other dancer's, its height
