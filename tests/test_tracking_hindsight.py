@@ -430,6 +430,36 @@ def test_a_wait_that_ends_seen_is_filled_by_a_line_from_the_start_to_the_first_s
     with pytest.raises(ValueError, match="weight"):
         fill_hidden_until_seen(boxes, status, [(0, 1, 0)], weight=2.0)
 
+
+def test_a_dancer_waiting_longer_than_its_walk_stands_behind_the_front_dancer_then_walks_out():
+    """Seen at frame 8 after waiting from frame 0, with a walk of 3 frames: frames 1-4 keep their boxes (it stood
+    behind the dancer in front), frames 5-7 lie on the line from the frame-4 box to the frame-8 box; a walk as long
+    as the wait or longer draws the line from the start box; an unknown box where the walk begins draws it from the
+    start box too; a walk under 1 frame is refused; ``apply_hindsight`` passes the setting on."""
+    boxes, status = _stack()
+    boxes[8:, 1, 0] += 40.0
+    walked = fill_hidden_until_seen(boxes, status, [(0, 1, 0)], walk_frames=3)
+    np.testing.assert_array_equal(walked[:5, 1], boxes[:5, 1])
+    np.testing.assert_allclose(walked[5:8, 1], interpolate_boxes(boxes[4, 1], boxes[8, 1], 3))
+    np.testing.assert_array_equal(walked[8:], boxes[8:])
+    np.testing.assert_array_equal(walked[:, 0], boxes[:, 0])
+    whole = fill_hidden_until_seen(boxes, status, [(0, 1, 0)], walk_frames=7)
+    np.testing.assert_allclose(whole[1:8, 1], interpolate_boxes(boxes[0, 1], boxes[8, 1], 7))
+    np.testing.assert_array_equal(fill_hidden_until_seen(boxes, status, [(0, 1, 0)], walk_frames=100), whole)
+    unknown = boxes.copy()
+    unknown[4, 1] = np.nan
+    from_start = fill_hidden_until_seen(unknown, status, [(0, 1, 0)], walk_frames=3)
+    line = interpolate_boxes(boxes[0, 1], boxes[8, 1], 7)
+    np.testing.assert_allclose(from_start[[1, 2, 3, 5, 6, 7], 1], line[[0, 1, 2, 4, 5, 6]])
+    assert np.isnan(from_start[4, 1]).all()
+    with pytest.raises(ValueError, match="walk_frames"):
+        fill_hidden_until_seen(boxes, status, [(0, 1, 0)], walk_frames=0)
+    keypoints = np.full(boxes.shape[:2] + (25, 3), np.nan)
+    keypoints[..., 2] = 0
+    short, long_ = (apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
+                                    settings=HindsightSettings(hidden_walk_frames=k))[0] for k in (3, 100))
+    assert np.abs(short[1:5, 1] - long_[1:5, 1]).max() > 1.0
+
 def test_a_wait_never_followed_by_a_sighting_is_pulled_towards_the_start_place():
     """A dancer waiting hidden to the end of the video (or whose wait ends occluded, or out of the frame) while its
     box drifts onto the dancer in front: each box of the wait moves sideways ``weight`` of the way from its centre to

@@ -77,13 +77,17 @@ part, lost more clips than it mended; 504 hdvr synth clips with the clamp: 5 up,
 "session 49").
 
 :func:`fill_hidden_until_seen`: once a dancer that waited hidden behind another since its start is seen (status
-``tracked`` right after the wait), the boxes of the wait, as the steps above left them, are replaced by a straight
-line (centre and size) from its start box to the box it was first seen at, as :func:`fill_occluded` does for an
-occluded stretch: it walked from one to the other, while its tracker followed the dancer in front. Session 49, 504
-hdvr synth clips: 10 clips up, 4 down, failing 16 -> 15 (seed 2407 flamenco: the dancer behind walked out at frame
-21 and was first taken at frame 56; 0.892 -> 1.000); half way from the steps' boxes to the line: 8 up, 1 down, 16
-failing. (Measured on 936 clips in session 31, before the start offset and the feet: 0.9451 -> 0.9446 on the clips
-with a hidden start.)
+``tracked`` right after the wait), the boxes of its last ``walk_frames`` (30) frames, as the steps above left them,
+are replaced by a straight line (centre and size) from the box before them to the box it was first seen at, as
+:func:`fill_occluded` does for an occluded stretch: it walked from behind the dancer in front to there, while its
+tracker followed the dancer in front. Session 49 drew the line over the whole wait, from the start box: 504 hdvr synth
+clips 10 clips up, 4 down, failing 16 -> 15 (seed 2407 flamenco: the dancer behind walked out at frame 21 and was
+first taken at frame 56; 0.892 -> 1.000). But a dancer hidden behind another mostly stays there (it would show had it
+moved off) and walks out late: a dancer that stood still behind the one in front until frame 85 and was first seen
+at frame 105 had its box 25 px aside by frame 50 on the whole-wait line (seed 2642 hip-hop, with ``front_narrows``). Session 51, the line over the last 30 frames only: 240 fresh clips
+(seeds 2601-2640) failing 13 -> 12, 240 more (2641-2680) 8 -> 6, the 504 tuned 15 -> 15; 10 clips up, 3 down (2651
+swing 0.867 -> 0.979; 2407 flamenco 1.000 -> 0.944). (Measured on 936 clips in session 31, before the start offset
+and the feet: 0.9451 -> 0.9446 on the clips with a hidden start.)
 
 :func:`keep_start_place`: a wait never followed by a sighting (the dancer stays hidden to the end, or is next
 occluded or out of the frame) has no such end to draw a line to; its boxes are moved sideways ``weight`` (0.5) of the
@@ -155,6 +159,11 @@ HIDDEN_FEET_TOLERANCE = 0.25
 #: how far a waiting dancer's boxes move towards the straight line from its start box to where it was first seen
 #: (:func:`fill_hidden_until_seen`; 1: onto it, 0: not at all)
 HIDDEN_FILL_WEIGHT = 1.0
+#: frames before its first sighting in which a waiting dancer is taken to walk out from behind the dancer in front
+#: (:func:`fill_hidden_until_seen`; 1 s at 30 frames/s). Chosen in session 51 on 240 + 240 fresh and 504 tuned hdvr
+#: synth clips: 20, 30, 40 and 60 frames gave 12 + 6 + 15 failing each (45: 13 + 6 + 15), against 13 + 8 + 15 for a
+#: line over the whole wait; 30: 10 clips up, 3 down
+HIDDEN_WALK_FRAMES = 30
 #: how far the boxes of a wait never followed by a sighting move sideways towards the dancer's start place
 #: (:func:`keep_start_place`; chosen in session 50 on 504 tuned and 240 fresh hdvr synth clips: 0.35, 0.5, 0.65, 0.8
 #: and 1 gave 15+16, 15+15, 15+16, 15+16 and 17+18 failing)
@@ -444,24 +453,33 @@ def keep_feet_behind_front(boxes: np.ndarray, status, feet: dict[tuple[int, int]
     return out
 
 
-def fill_hidden_until_seen(boxes: np.ndarray, status, hidden_starts, weight: float = HIDDEN_FILL_WEIGHT) -> np.ndarray:
+def fill_hidden_until_seen(boxes: np.ndarray, status, hidden_starts, weight: float = HIDDEN_FILL_WEIGHT,
+                           walk_frames: int = HIDDEN_WALK_FRAMES) -> np.ndarray:
     """``boxes`` (T, N, 4) px with each wait of ``hidden_starts`` ((frame, dancer, dancer in front) triples) that ends
-    with the dancer seen (status ``hidden`` from the start frame on, then ``tracked``) moved ``weight`` of the way
-    onto the straight line (centre and size, :func:`interpolate_boxes`) from the box of the start frame to the box of
-    the first frame seen (module docstring). Frames without a box stay so; the input is not changed."""
+    with the dancer seen (status ``hidden`` from the start frame on, then ``tracked``) walking out over its last
+    ``walk_frames`` frames: those move ``weight`` of the way onto the straight line (centre and size,
+    :func:`interpolate_boxes`) from its box ``walk_frames`` + 1 frames before the first frame seen (the start frame's
+    in a shorter wait, or where that box is unknown) to the box of the first frame seen; the frames before keep their
+    boxes (module docstring). ``walk_frames`` at least as long as the wait: one line from the start box over all of
+    it. Frames without a box stay so; the input is not changed."""
     boxes, status = _checked(boxes, status)
     if not 0 <= weight <= 1:
         raise ValueError(f"weight must be in [0, 1], got {weight}")
+    if walk_frames < 1:
+        raise ValueError(f"walk_frames must be >= 1, got {walk_frames}")
     out = boxes.copy()
     for first, dancer, _ in hidden_starts:
         seen = _wait_end(status, dancer, first)
         if seen >= len(boxes) or status[seen, dancer] != TRACKED or seen - first < 2:
             continue
-        ends = boxes[[first, seen], dancer]
+        since = max(first, seen - walk_frames - 1)  # it stood behind the front dancer until then
+        if not np.isfinite(boxes[since, dancer]).all():
+            since = first
+        ends = boxes[[since, seen], dancer]
         if not np.isfinite(ends).all():
             continue
-        line = interpolate_boxes(ends[0], ends[1], seen - first - 1)
-        frames = np.arange(first + 1, seen)
+        line = interpolate_boxes(ends[0], ends[1], seen - since - 1)
+        frames = np.arange(since + 1, seen)
         known = np.isfinite(boxes[frames, dancer]).all(axis=1)
         out[frames[known], dancer] = (1 - weight) * boxes[frames[known], dancer] + weight * line[known]
     return out
@@ -503,7 +521,7 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
 class HindsightSettings:
     """The settings of :func:`apply_hindsight`'s steps, the module's defaults unless given (for measuring others on
     runs already tracked, ``scripts/hindsight_runs.py``). ``keypoint_reach`` and ``head_reach`` in box heights,
-    ``smooth_window`` and ``min_seen_after`` in frames, ``start_offset_weight``, ``hidden_fill_weight`` and
+    ``smooth_window``, ``min_seen_after`` and ``hidden_walk_frames`` in frames, ``start_offset_weight``, ``hidden_fill_weight`` and
     ``start_place_weight`` fractions,
     ``hidden_feet_tolerance`` in box heights (``inf``: off)."""
 
@@ -514,6 +532,7 @@ class HindsightSettings:
     start_offset_weight: float = START_OFFSET_WEIGHT
     hidden_feet_tolerance: float = HIDDEN_FEET_TOLERANCE
     hidden_fill_weight: float = HIDDEN_FILL_WEIGHT
+    hidden_walk_frames: int = HIDDEN_WALK_FRAMES
     start_place_weight: float = START_PLACE_WEIGHT
 
 
@@ -538,5 +557,6 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     boxes = smooth_boxes(boxes, status, window=s.smooth_window)
     boxes = keep_start_offset(boxes, status, offsets, weight=s.start_offset_weight)
     boxes = keep_feet_behind_front(boxes, status, feet, tolerance=s.hidden_feet_tolerance)
-    boxes = fill_hidden_until_seen(boxes, status, hidden_starts, weight=s.hidden_fill_weight)
+    boxes = fill_hidden_until_seen(boxes, status, hidden_starts, weight=s.hidden_fill_weight,
+                                   walk_frames=s.hidden_walk_frames)
     return keep_start_place(boxes, status, hidden_starts, weight=s.start_place_weight, start_boxes=online), filled
