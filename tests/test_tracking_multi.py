@@ -1328,6 +1328,29 @@ def test_a_dancer_in_front_of_a_hidden_one_scales_with_its_detection():
     assert scaled(hidden_box=(305.0, 160.0, 60.0, 250.0)) == front
 
 
+def test_a_dancer_in_front_of_a_waiting_one_narrows_to_its_narrower_detection():
+    """A dancer that started with spread arms (a 145 px box) in front of one waiting hidden behind it brings its arms
+    in (its detection 70 px wide): with ``front_narrows`` (the default) its box narrows towards the detection and its
+    centre moves onto it; a wider detection (which may hold the limbs of the dancer behind) does not widen it, and
+    without the rule the box keeps its width, as the height-only adaptation of a dancer in front did before."""
+    frame = np.random.default_rng(5).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    front, behind = (250.0, 120.0, 145.0, 300.0), (280.0, 150.0, 90.0, 230.0)
+    narrow, wide = (300.0, 125.0, 70.0, 290.0), (240.0, 125.0, 180.0, 290.0)
+
+    def front_box(detection, rule=True):
+        tracker = MultiDancerTracker(frame, [front, behind], MultiTrackerConfig(front_narrows=rule))
+        assert tracker.dancers[1].hidden_behind == 0
+        for _ in range(10):
+            tracker.step(frame, [detection])
+        return tracker.dancers[0].box
+
+    assert MultiTrackerConfig().front_narrows
+    x, _, w, _ = front_box(narrow)
+    assert w == pytest.approx(70.0, abs=5.0) and x + w / 2 == pytest.approx(335.0, abs=5.0)
+    assert front_box(narrow, rule=False)[2] == pytest.approx(145.0)
+    assert front_box(wide)[2] == pytest.approx(145.0)
+
+
 def test_a_dancer_in_front_gets_up_from_the_floor_shape_its_box_kept_in_a_group():
     """A box that took a floor shape (wider than tall: a dancer down, or two dancers drawn as one person) keeps its
     aspect while it overlaps others (group scaling keeps it). When the dancer's unambiguous detection has shown an
@@ -1563,7 +1586,8 @@ def test_a_dancer_in_front_of_one_waiting_behind_it_adapts_its_height(tmp_path):
     """A dancer with another waiting straight behind it since the start overlaps it, so it used to count as in a
     group and keep its box whatever its detections. With ``front_of_waiting_clear`` (the default since session 46)
     it counts as clear: walking away (detections shrinking to 0.8 x its height, feet in place) its box's height
-    follows them, its width stays; without, the box keeps its start height."""
+    follows them, its width stays (``front_narrows`` off here: a narrower detection would narrow it, tested on its
+    own); without, the box keeps its start height."""
     truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=1, seed=0))
     frames = list(VideoReader(tmp_path / "clip.mp4"))
     boxes = [tuple(float(v) for v in b[0]) for b in truth.boxes]
@@ -1571,7 +1595,8 @@ def test_a_dancer_in_front_of_one_waiting_behind_it_adapts_its_height(tmp_path):
     behind = (x + 0.1 * w, y - 0.1 * h, 0.8 * w, 0.9 * h)  # a little smaller and higher: further back
 
     def front_box(clear: bool) -> tuple:
-        tracker = MultiDancerTracker(frames[0], [boxes[0], behind], MultiTrackerConfig(front_of_waiting_clear=clear))
+        tracker = MultiDancerTracker(frames[0], [boxes[0], behind],
+                                     MultiTrackerConfig(front_of_waiting_clear=clear, front_narrows=False))
         assert tracker.hiding_dancer(1) == 0
         for t in range(1, 8):
             x, y, w, h = boxes[t]

@@ -196,12 +196,16 @@ class MultiTrackerConfig:
     emerge_max_aspect: float = 2.0  # ... and its width / height at most this factor of the dancer's box's: a wider
     # one is a part of a dancer that YOLO drew as a person, e.g. the spread arm of the dancer in front (seed 1308
     # hip-hop; cached synthetic clips: 8 of 864 up, none down, 4 switches fewer; docs/tracking.md, session 26)
+    emerge_aspect_floor: float = 0.0  # ... the box's width / height taken as at least this (a start box of a
+    # sliver seen side on would bar every person)
     emerge_past_waiting: bool = True  # ... another dancer still waiting so (not the one hiding this one) does not
     # stand in the way of that detection when it fits the detection less well (IoU) than this one's box: its box is a
     # guess where it may be, not a sighting (hdvr synth seed 2624 hip-hop: two dancers started behind the same one, who
     # walked away; the first, seen whole and detected for 90 frames, never came out because the second's box, still
     # at the start, lay on her). The dancer hiding this one still stands in the way when it waits itself (a stack of
     # three: seed 2507 flamenco, the dancer at the back took the middle one's detection, 0.967 -> 0.800)
+    emerge_nearest_first: bool = False  # of several waiting dancers, the one nearest to a detection that comes out
+    # (distance from its box centre in its box heights) takes it first, not the one started first
     hidden_front_rival: bool = True  # while such a dancer waits, the dancer hiding it is one more rival when it is
     # re-identified (its memory shows that dancer: a patch of it would match). Cached synthetic clips: seeds 201-212
     # and 151-199 mean IDF1 0.9578 -> 0.9585, identity switches 23 -> 15; seeds 7-139 and groups of 6-8 unchanged
@@ -250,6 +254,12 @@ class MultiTrackerConfig:
     # failing 25 -> 24, mean IDF1 0.9839 -> 0.9843, 17 up, 13 down (2108 hip-hop 0.765 -> 0.977, 2210 hip-hop 0.808
     # -> 0.925; 2209 hip-hop 0.983 -> 0.856, and 309 hip-hop, failing already, 1 -> 2 switches). Adapting the whole
     # box: 27 -> 28 (2105 hip-hop: the detection held the spread arms of the dancer behind, the box doubled its width)
+    front_narrows: bool = True  # ... and its box narrows (width and centre, by ``box_adaptation``) to that
+    # detection where the detection is narrower: limbs of the dancers behind can only widen it
+    # (:meth:`MultiDancerTracker._narrow_front`). Seed 2635 tango: a start box with spread arms stayed 145 px wide
+    # while the dancer, arms in, was 70, and the dancer waiting behind took her detection (0.633 -> 0.983). Session
+    # 51, with hindsight's 30-frame walk: fresh clips (seeds 2601-2640) failing 12 -> 10, (2641-2680) 6 -> 6, tuned
+    # 15 -> 16 (docs/benchmarks.md "session 51")
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
@@ -809,6 +819,8 @@ class MultiDancerTracker(ReportedExtent):
                         self._single_person(d, matches[0]):
                     if fronting:  # its detection may hold limbs of the dancers behind it beside it: height only
                         self._adapt_height(d, matches[0])
+                        if c.front_narrows:
+                            self._narrow_front(d, matches[0])
                     else:
                         self._adapt_box(d, frame, matches[0])
                     d.adapted_at = t
@@ -1183,6 +1195,24 @@ class MultiDancerTracker(ReportedExtent):
         height = (1 - c.box_adaptation) * d.box[3] + c.box_adaptation * ratio * float(detection[3])
         x, y, w, h = d.box
         d.box = (x, y + h - height, w, height)
+
+    def _narrow_front(self, d: DancerTrack, detection) -> None:
+        """Dancer ``d``'s box, in front of dancers waiting behind it, narrows ``box_adaptation`` of the way towards
+        ``detection`` (x, y, w, h px; its width as :meth:`_box_size` makes it) where that is narrower, its centre
+        moving as far towards the detection's: limbs of the dancers behind can widen its detection, not narrow it
+        (seed 2635 tango: a start box with spread arms stayed 145 px wide while the dancer, arms in, was 70)."""
+        c = self.config
+        a = c.box_adaptation
+        width = float(self._box_size(d, detection[2:], self._cut_by_edge([detection]) is not None)[0])
+        x, y, w, h = d.box
+        if width >= w:
+            return
+        new_w = (1 - a) * w + a * width
+        shift = a * (float(detection[0]) + float(detection[2]) / 2 - (x + w / 2))
+        offset_x = float(np.clip(d.offset[0] + shift, -c.max_box_offset * new_w, c.max_box_offset * new_w))
+        centre = x + w / 2 + offset_x - d.offset[0]
+        d.offset = np.array([offset_x, d.offset[1]])
+        d.box = (centre - new_w / 2, y, new_w, h)
 
     def _containment(self, detection, box) -> float:
         """How much of ``detection`` lies inside dancer box ``box`` (both x, y, w, h px), in [0, 1]: with
@@ -1691,57 +1721,17 @@ class MultiDancerTracker(ReportedExtent):
         holders = [o for o in self.dancers if o.status == TRACKED and o.hidden_behind is None]
         taken = {k for _, k in self._fit_assignment([o.box for o in holders], dets)[1]} if holders else set()
         histograms = {}  # detection index -> its colour histogram, computed once for all waiting dancers
+        if c.emerge_nearest_first and len(waiting) > 1:
+            # the waiting dancer nearest (in its box heights) to a detection that comes out takes it first
+            first = {d.dancer_id: self._emerge_candidate(frame, d, dets, taken, histograms, front_histograms, False)
+                     for d in waiting}
+            waiting = sorted(waiting, key=lambda d: np.inf if first[d.dancer_id] is None else
+                             first[d.dancer_id][2] / max(d.box[3], 1.0))
         for d in waiting:
-            front = self.dancers[d.hidden_behind]
-            centre = np.asarray(box_centre(d.box))
-            unlike_front = c.reid_similarity
-            if c.emerge_relative and front.status == TRACKED:
-                key = (front.dancer_id, tuple(front.box))
-                if key not in front_histograms:
-                    front_histograms[key] = colour_histogram(frame, front.box)
-                front_hist = front_histograms[key]
-                if front_hist is not None:
-                    unlike_front = max(unlike_front, histogram_similarity(front_hist, front.stored_histogram)
-                                       - c.reid_margin)
-            best, best_distance = None, c.emerge_distance * d.box[3]
-            if c.emerge_beside_persist and d.beside_frame != self.frame_index:  # a new detector frame
-                # what lay beside it counts only if it was seen on the detector frame just before this one
-                d.beside_before = d.beside_now if d.beside_frame == self.previous_detector_frame else []
-                d.beside_now, d.beside_frame = [], self.frame_index
-            for k, det in enumerate(dets):
-                if k in taken or not _height_within(det, d.box, c.max_height_change) \
-                        or self._wider_than(det, d, c.emerge_max_aspect):
-                    continue
-                distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
-                if distance > best_distance:
-                    continue
-                fit = box_iou(det, d.box)
-                overlaps = [(o, self._bodies_overlap(det, o.box)) for o in self.dancers
-                            if o is not d and o.status != OUT and not (
-                                c.emerge_past_waiting and o.hidden_behind is not None
-                                and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
-                overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
-                if overlapped and (not c.emerge_beside_persist
-                                   or max(v for _, v in overlaps) >= c.emerge_beside_overlap):
-                    continue
-                if k not in histograms:
-                    histograms[k] = colour_histogram(frame, det)
-                hist = histograms[k]
-                if hist is None or histogram_similarity(hist, front.stored_histogram) >= unlike_front \
-                        or self._shows_known_dancer(hist, front):
-                    continue
-                if overlapped:  # beside others: unlike each of them, and there on the detector frames before
-                    if any(o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
-                           >= c.emerge_beside_similarity for o in overlapped):
-                        continue
-                    count = _chain_length(d.beside_before, det)
-                    d.beside_now.append((det, count))
-                    if count < c.emerge_beside_persist:
-                        continue
-                best, best_distance = (k, hist), distance
+            best = self._emerge_candidate(frame, d, dets, taken, histograms, front_histograms, True)
             if best is None:
                 continue
-            k, hist = best
+            k, hist, _ = best
             taken.add(k)
             if box_iou(d.box, dets[k]) < 0.5 or d.status != TRACKED:  # the box is elsewhere: move it there
                 det = dets[k]
@@ -1750,6 +1740,63 @@ class MultiDancerTracker(ReportedExtent):
                 self._take(d, det, 1.0)
                 d.tracker.init(frame, self._core(d.box))
             d.stored_histogram, d.hidden_behind = hist, None
+
+    def _emerge_candidate(self, frame, d: DancerTrack, dets: list, taken: set, histograms: dict,
+                          front_histograms: dict, record: bool):
+        """The detection waiting dancer ``d`` would come out on (:meth:`_emerge`'s tests), among ``dets`` (x, y, w, h
+        px) not in ``taken``: (index, its colour histogram, distance px from the box centre), or None.
+        ``histograms`` and ``front_histograms`` cache colour histograms across calls; ``record``: keep what lay
+        beside the dancer for the next detector frame's persistence test (once per dancer and frame)."""
+        c = self.config
+        front = self.dancers[d.hidden_behind]
+        centre = np.asarray(box_centre(d.box))
+        unlike_front = c.reid_similarity
+        if c.emerge_relative and front.status == TRACKED:
+            key = (front.dancer_id, tuple(front.box))
+            if key not in front_histograms:
+                front_histograms[key] = colour_histogram(frame, front.box)
+            front_hist = front_histograms[key]
+            if front_hist is not None:
+                unlike_front = max(unlike_front, histogram_similarity(front_hist, front.stored_histogram)
+                                   - c.reid_margin)
+        best, best_distance = None, c.emerge_distance * d.box[3]
+        if c.emerge_beside_persist and d.beside_frame != self.frame_index:  # a new detector frame
+            # what lay beside it counts only if it was seen on the detector frame just before this one
+            d.beside_before = d.beside_now if d.beside_frame == self.previous_detector_frame else []
+            d.beside_now, d.beside_frame = [], self.frame_index
+        for k, det in enumerate(dets):
+            if k in taken or not _height_within(det, d.box, c.max_height_change) \
+                    or det[2] / det[3] > c.emerge_max_aspect * max(d.box[2] / d.box[3], c.emerge_aspect_floor):
+                continue
+            distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
+            if distance > best_distance:
+                continue
+            fit = box_iou(det, d.box)
+            overlaps = [(o, self._bodies_overlap(det, o.box)) for o in self.dancers
+                        if o is not d and o.status != OUT and not (
+                            c.emerge_past_waiting and o.hidden_behind is not None
+                            and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
+            overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
+            if overlapped and (not c.emerge_beside_persist
+                               or max(v for _, v in overlaps) >= c.emerge_beside_overlap):
+                continue
+            if k not in histograms:
+                histograms[k] = colour_histogram(frame, det)
+            hist = histograms[k]
+            if hist is None or histogram_similarity(hist, front.stored_histogram) >= unlike_front \
+                    or self._shows_known_dancer(hist, front):
+                continue
+            if overlapped:  # beside others: unlike each of them, and there on the detector frames before
+                if any(o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
+                       >= c.emerge_beside_similarity for o in overlapped):
+                    continue
+                count = _chain_length(d.beside_before, det)
+                if record:
+                    d.beside_now.append((det, count))
+                if count < c.emerge_beside_persist:
+                    continue
+            best, best_distance = (k, hist), distance
+        return None if best is None else (best[0], best[1], best_distance)
 
     def _shows_known_dancer(self, hist, front: DancerTrack) -> bool:
         """With ``emerge_yields_to_known``, whether a detection with colour histogram ``hist`` shows a dancer other
