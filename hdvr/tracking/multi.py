@@ -196,16 +196,12 @@ class MultiTrackerConfig:
     emerge_max_aspect: float = 2.0  # ... and its width / height at most this factor of the dancer's box's: a wider
     # one is a part of a dancer that YOLO drew as a person, e.g. the spread arm of the dancer in front (seed 1308
     # hip-hop; cached synthetic clips: 8 of 864 up, none down, 4 switches fewer; docs/tracking.md, session 26)
-    emerge_aspect_floor: float = 0.0  # ... the box's width / height taken as at least this (a start box of a
-    # sliver seen side on would bar every person)
     emerge_past_waiting: bool = True  # ... another dancer still waiting so (not the one hiding this one) does not
     # stand in the way of that detection when it fits the detection less well (IoU) than this one's box: its box is a
     # guess where it may be, not a sighting (hdvr synth seed 2624 hip-hop: two dancers started behind the same one, who
     # walked away; the first, seen whole and detected for 90 frames, never came out because the second's box, still
     # at the start, lay on her). The dancer hiding this one still stands in the way when it waits itself (a stack of
     # three: seed 2507 flamenco, the dancer at the back took the middle one's detection, 0.967 -> 0.800)
-    emerge_nearest_first: bool = False  # of several waiting dancers, the one nearest to a detection that comes out
-    # (distance from its box centre in its box heights) takes it first, not the one started first
     hidden_front_rival: bool = True  # while such a dancer waits, the dancer hiding it is one more rival when it is
     # re-identified (its memory shows that dancer: a patch of it would match). Cached synthetic clips: seeds 201-212
     # and 151-199 mean IDF1 0.9578 -> 0.9585, identity switches 23 -> 15; seeds 7-139 and groups of 6-8 unchanged
@@ -1721,17 +1717,57 @@ class MultiDancerTracker(ReportedExtent):
         holders = [o for o in self.dancers if o.status == TRACKED and o.hidden_behind is None]
         taken = {k for _, k in self._fit_assignment([o.box for o in holders], dets)[1]} if holders else set()
         histograms = {}  # detection index -> its colour histogram, computed once for all waiting dancers
-        if c.emerge_nearest_first and len(waiting) > 1:
-            # the waiting dancer nearest (in its box heights) to a detection that comes out takes it first
-            first = {d.dancer_id: self._emerge_candidate(frame, d, dets, taken, histograms, front_histograms, False)
-                     for d in waiting}
-            waiting = sorted(waiting, key=lambda d: np.inf if first[d.dancer_id] is None else
-                             first[d.dancer_id][2] / max(d.box[3], 1.0))
         for d in waiting:
-            best = self._emerge_candidate(frame, d, dets, taken, histograms, front_histograms, True)
+            front = self.dancers[d.hidden_behind]
+            centre = np.asarray(box_centre(d.box))
+            unlike_front = c.reid_similarity
+            if c.emerge_relative and front.status == TRACKED:
+                key = (front.dancer_id, tuple(front.box))
+                if key not in front_histograms:
+                    front_histograms[key] = colour_histogram(frame, front.box)
+                front_hist = front_histograms[key]
+                if front_hist is not None:
+                    unlike_front = max(unlike_front, histogram_similarity(front_hist, front.stored_histogram)
+                                       - c.reid_margin)
+            best, best_distance = None, c.emerge_distance * d.box[3]
+            if c.emerge_beside_persist and d.beside_frame != self.frame_index:  # a new detector frame
+                # what lay beside it counts only if it was seen on the detector frame just before this one
+                d.beside_before = d.beside_now if d.beside_frame == self.previous_detector_frame else []
+                d.beside_now, d.beside_frame = [], self.frame_index
+            for k, det in enumerate(dets):
+                if k in taken or not _height_within(det, d.box, c.max_height_change) \
+                        or self._wider_than(det, d, c.emerge_max_aspect):
+                    continue
+                distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
+                if distance > best_distance:
+                    continue
+                fit = box_iou(det, d.box)
+                overlaps = [(o, self._bodies_overlap(det, o.box)) for o in self.dancers
+                            if o is not d and o.status != OUT and not (
+                                c.emerge_past_waiting and o.hidden_behind is not None
+                                and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
+                overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
+                if overlapped and (not c.emerge_beside_persist
+                                   or max(v for _, v in overlaps) >= c.emerge_beside_overlap):
+                    continue
+                if k not in histograms:
+                    histograms[k] = colour_histogram(frame, det)
+                hist = histograms[k]
+                if hist is None or histogram_similarity(hist, front.stored_histogram) >= unlike_front \
+                        or self._shows_known_dancer(hist, front):
+                    continue
+                if overlapped:  # beside others: unlike each of them, and there on the detector frames before
+                    if any(o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
+                           >= c.emerge_beside_similarity for o in overlapped):
+                        continue
+                    count = _chain_length(d.beside_before, det)
+                    d.beside_now.append((det, count))
+                    if count < c.emerge_beside_persist:
+                        continue
+                best, best_distance = (k, hist), distance
             if best is None:
                 continue
-            k, hist, _ = best
+            k, hist = best
             taken.add(k)
             if box_iou(d.box, dets[k]) < 0.5 or d.status != TRACKED:  # the box is elsewhere: move it there
                 det = dets[k]
@@ -1740,63 +1776,6 @@ class MultiDancerTracker(ReportedExtent):
                 self._take(d, det, 1.0)
                 d.tracker.init(frame, self._core(d.box))
             d.stored_histogram, d.hidden_behind = hist, None
-
-    def _emerge_candidate(self, frame, d: DancerTrack, dets: list, taken: set, histograms: dict,
-                          front_histograms: dict, record: bool):
-        """The detection waiting dancer ``d`` would come out on (:meth:`_emerge`'s tests), among ``dets`` (x, y, w, h
-        px) not in ``taken``: (index, its colour histogram, distance px from the box centre), or None.
-        ``histograms`` and ``front_histograms`` cache colour histograms across calls; ``record``: keep what lay
-        beside the dancer for the next detector frame's persistence test (once per dancer and frame)."""
-        c = self.config
-        front = self.dancers[d.hidden_behind]
-        centre = np.asarray(box_centre(d.box))
-        unlike_front = c.reid_similarity
-        if c.emerge_relative and front.status == TRACKED:
-            key = (front.dancer_id, tuple(front.box))
-            if key not in front_histograms:
-                front_histograms[key] = colour_histogram(frame, front.box)
-            front_hist = front_histograms[key]
-            if front_hist is not None:
-                unlike_front = max(unlike_front, histogram_similarity(front_hist, front.stored_histogram)
-                                   - c.reid_margin)
-        best, best_distance = None, c.emerge_distance * d.box[3]
-        if c.emerge_beside_persist and d.beside_frame != self.frame_index:  # a new detector frame
-            # what lay beside it counts only if it was seen on the detector frame just before this one
-            d.beside_before = d.beside_now if d.beside_frame == self.previous_detector_frame else []
-            d.beside_now, d.beside_frame = [], self.frame_index
-        for k, det in enumerate(dets):
-            if k in taken or not _height_within(det, d.box, c.max_height_change) \
-                    or det[2] / det[3] > c.emerge_max_aspect * max(d.box[2] / d.box[3], c.emerge_aspect_floor):
-                continue
-            distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
-            if distance > best_distance:
-                continue
-            fit = box_iou(det, d.box)
-            overlaps = [(o, self._bodies_overlap(det, o.box)) for o in self.dancers
-                        if o is not d and o.status != OUT and not (
-                            c.emerge_past_waiting and o.hidden_behind is not None
-                            and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
-            overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
-            if overlapped and (not c.emerge_beside_persist
-                               or max(v for _, v in overlaps) >= c.emerge_beside_overlap):
-                continue
-            if k not in histograms:
-                histograms[k] = colour_histogram(frame, det)
-            hist = histograms[k]
-            if hist is None or histogram_similarity(hist, front.stored_histogram) >= unlike_front \
-                    or self._shows_known_dancer(hist, front):
-                continue
-            if overlapped:  # beside others: unlike each of them, and there on the detector frames before
-                if any(o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
-                       >= c.emerge_beside_similarity for o in overlapped):
-                    continue
-                count = _chain_length(d.beside_before, det)
-                if record:
-                    d.beside_now.append((det, count))
-                if count < c.emerge_beside_persist:
-                    continue
-            best, best_distance = (k, hist), distance
-        return None if best is None else (best[0], best[1], best_distance)
 
     def _shows_known_dancer(self, hist, front: DancerTrack) -> bool:
         """With ``emerge_yields_to_known``, whether a detection with colour histogram ``hist`` shows a dancer other
