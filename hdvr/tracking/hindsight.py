@@ -84,10 +84,11 @@ tracker followed the dancer in front. Session 49 drew the line over the whole wa
 clips 10 clips up, 4 down, failing 16 -> 15 (seed 2407 flamenco: the dancer behind walked out at frame 21 and was
 first taken at frame 56; 0.892 -> 1.000). But a dancer hidden behind another mostly stays there (it would show had it
 moved off) and walks out late: a dancer that stood still behind the one in front until frame 85 and was first seen
-at frame 105 had its box 25 px aside by frame 50 on the whole-wait line (seed 2642 hip-hop, with ``front_narrows``). Session 51, the line over the last 30 frames only: 240 fresh clips
-(seeds 2601-2640) failing 13 -> 12, 240 more (2641-2680) 8 -> 6, the 504 tuned 15 -> 15; 10 clips up, 3 down (2651
-swing 0.867 -> 0.979; 2407 flamenco 1.000 -> 0.944). (Measured on 936 clips in session 31, before the start offset
-and the feet: 0.9451 -> 0.9446 on the clips with a hidden start.)
+at frame 105 had its box 25 px aside by frame 50 on the whole-wait line (seed 2642 hip-hop, with ``front_narrows``).
+Session 51, the line over the last 30 frames only: 240 fresh clips (seeds 2601-2640) failing 13 -> 12, 240 more
+(2641-2680) 8 -> 6, the 504 tuned 15 -> 15; 10 clips up, 3 down (2651 swing 0.867 -> 0.975; 2407 flamenco 1.000 ->
+0.908). (Measured on 936 clips in session 31, before the start offset and the feet: 0.9451 -> 0.9446 on the clips
+with a hidden start.)
 
 :func:`keep_start_place`: a wait never followed by a sighting (the dancer stays hidden to the end, or is next
 occluded or out of the frame) has no such end to draw a line to; its boxes are moved sideways ``weight`` (0.5) of the
@@ -521,9 +522,9 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
 class HindsightSettings:
     """The settings of :func:`apply_hindsight`'s steps, the module's defaults unless given (for measuring others on
     runs already tracked, ``scripts/hindsight_runs.py``). ``keypoint_reach`` and ``head_reach`` in box heights,
-    ``smooth_window``, ``min_seen_after`` and ``hidden_walk_frames`` in frames, ``start_offset_weight``, ``hidden_fill_weight`` and
-    ``start_place_weight`` fractions,
-    ``hidden_feet_tolerance`` in box heights (``inf``: off)."""
+    ``smooth_window``, ``min_seen_after`` and ``hidden_walk_frames`` in frames, ``start_offset_weight``,
+    ``hidden_fill_weight`` and ``start_place_weight`` fractions, ``hidden_feet_tolerance`` in box heights (``inf``:
+    off)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
     keypoint_reach: float = KEYPOINT_REACH
