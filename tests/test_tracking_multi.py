@@ -1037,6 +1037,31 @@ def test_a_waiting_dancer_comes_out_half_beside_the_dancer_in_front_once_seen_th
             assert box_iou(waiting.box, person) > 0.8
 
 
+def test_a_waiting_dancer_comes_out_on_its_own_box_once_seen_there_three_times_unlike_the_front_dancer():
+    """With ``emerge_own_margin`` m (0.35 by default since session 51), a dancer waiting behind another also takes a
+    detection on its own box (IoU >= 0.5) whose body core overlaps the front dancer's too much to count as beside him,
+    when its colours match the front dancer's memory by m less than his own box does now, on ``emerge_beside_persist``
+    (3) detector frames in a row (hdvr synth seed 2665 hip-hop: the dancer behind, seen on her own box for 90 frames,
+    never came out; 2 switches -> none). Not on the first two frames, not for a person dressed like the dancer in
+    front (a part of him that the detector drew as a person), and never with the rule off (0)."""
+    rng = np.random.default_rng(11)
+    front_box, own = (280.0, 180.0, 120.0, 260.0), (300.0, 100.0, 60.0, 200.0)
+    green, magenta, red, yellow = (60, 170, 80), (170, 40, 170), (40, 60, 200), (40, 200, 220)
+    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
+    for margin, colours, comes_out in ((0.35, (red, yellow), True), (0.35, (green, magenta), False),
+                                       (0.0, (red, yellow), False)):
+        later = _two_colour_frame(rng, [(front_box, (green, magenta)), (own, colours)])
+        tracker = _waiting_behind(frame, MultiTrackerConfig(emerge_own_margin=margin))
+        waiting, front = tracker.dancers
+        assert tracker._bodies_overlap(own, front.box) >= 0.5 and box_iou(own, waiting.box) >= 0.5
+        for t in (3, 6, 9):
+            tracker.frame_index = t
+            tracker._count_detector_frame()
+            tracker._emerge(later, [front_box, own])
+            assert (waiting.hidden_behind is None) == (comes_out and t == 9), (margin, colours, t)
+    assert MultiTrackerConfig().emerge_own_margin == 0.35
+
+
 def test_detector_frames_are_counted_by_step_whether_or_not_the_detector_found_anyone():
     """``step`` with ``detections`` (even an empty list) marks a detector frame; without, it does not: the rules
     that need a detection on detector frames in a row (``emerge_beside_persist``) see the frame before as the

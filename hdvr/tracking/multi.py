@@ -196,6 +196,11 @@ class MultiTrackerConfig:
     emerge_max_aspect: float = 2.0  # ... and its width / height at most this factor of the dancer's box's: a wider
     # one is a part of a dancer that YOLO drew as a person, e.g. the spread arm of the dancer in front (seed 1308
     # hip-hop; cached synthetic clips: 8 of 864 up, none down, 4 switches fewer; docs/tracking.md, session 26)
+    emerge_own_margin: float = 0.35  # with m > 0, also on a detection on its own box (IoU >= 0.5) that overlaps others,
+    # when its colours match the front dancer's memory by m less than his box does now, on ``emerge_beside_persist``
+    # detector frames in a row (seed 2665 hip-hop: the dancer behind, seen on her own box for 90 frames, never came
+    # out). Session 51: fresh clips (seeds 2601-2640) failing 10 -> 9, (2641-2680) 6 -> 5, tuned 16 -> 15; 0.2: 10, 5,
+    # 16 (docs/benchmarks.md "session 51"). Session 50's version with the plain colour test of coming out: 36 -> 37
     emerge_past_waiting: bool = True  # ... another dancer still waiting so (not the one hiding this one) does not
     # stand in the way of that detection when it fits the detection less well (IoU) than this one's box: its box is a
     # guess where it may be, not a sighting (hdvr synth seed 2624 hip-hop: two dancers started behind the same one, who
@@ -1721,14 +1726,15 @@ class MultiDancerTracker(ReportedExtent):
             front = self.dancers[d.hidden_behind]
             centre = np.asarray(box_centre(d.box))
             unlike_front = c.reid_similarity
+            front_now = None  # how well the front dancer's box matches its memory now
             if c.emerge_relative and front.status == TRACKED:
                 key = (front.dancer_id, tuple(front.box))
                 if key not in front_histograms:
                     front_histograms[key] = colour_histogram(frame, front.box)
                 front_hist = front_histograms[key]
                 if front_hist is not None:
-                    unlike_front = max(unlike_front, histogram_similarity(front_hist, front.stored_histogram)
-                                       - c.reid_margin)
+                    front_now = histogram_similarity(front_hist, front.stored_histogram)
+                    unlike_front = max(unlike_front, front_now - c.reid_margin)
             best, best_distance = None, c.emerge_distance * d.box[3]
             if c.emerge_beside_persist and d.beside_frame != self.frame_index:  # a new detector frame
                 # what lay beside it counts only if it was seen on the detector frame just before this one
@@ -1747,8 +1753,9 @@ class MultiDancerTracker(ReportedExtent):
                                 c.emerge_past_waiting and o.hidden_behind is not None
                                 and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
                 overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
-                if overlapped and (not c.emerge_beside_persist
-                                   or max(v for _, v in overlaps) >= c.emerge_beside_overlap):
+                own = bool(c.emerge_own_margin) and c.emerge_beside_persist and fit >= 0.5 and front_now is not None
+                if overlapped and not own and (not c.emerge_beside_persist
+                                               or max(v for _, v in overlaps) >= c.emerge_beside_overlap):
                     continue
                 if k not in histograms:
                     histograms[k] = colour_histogram(frame, det)
@@ -1757,8 +1764,13 @@ class MultiDancerTracker(ReportedExtent):
                         or self._shows_known_dancer(hist, front):
                     continue
                 if overlapped:  # beside others: unlike each of them, and there on the detector frames before
-                    if any(o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
-                           >= c.emerge_beside_similarity for o in overlapped):
+                    beside = max(v for _, v in overlaps) < c.emerge_beside_overlap and not any(
+                        o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
+                        >= c.emerge_beside_similarity for o in overlapped)
+                    # or on its own box, far less like the dancer in front than his own box is now
+                    on_own = own and \
+                        histogram_similarity(hist, front.stored_histogram) < front_now - c.emerge_own_margin
+                    if not (beside or on_own):
                         continue
                     count = _chain_length(d.beside_before, det)
                     d.beside_now.append((det, count))
