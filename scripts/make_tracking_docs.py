@@ -42,6 +42,8 @@ BEFORE_AFTER = (
     (2202, 4, "hip_hop", 4, 100, "front_keeps_motion", "tracking_front_keeps_motion_s2202_hip_hop_100.jpg"),
     (2622, 2, "hip_hop", 3, 90, "stuck_persist", "tracking_stuck_persist_s2622_hip_hop_090.jpg"),
     (2624, 2, "hip_hop", 3, 60, "emerge_past_waiting", "tracking_emerge_past_waiting_s2624_hip_hop_060.jpg"),
+    (2635, 0, "tango", 2, 60, "front_narrows", "tracking_front_narrows_s2635_tango_060.jpg"),
+    (2665, 2, "hip_hop", 3, 8, "emerge_own_margin", "tracking_emerge_own_margin_s2665_hip_hop_008.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (
@@ -222,6 +224,8 @@ def main(argv=None) -> int:
                              "the ones of a hidden dancer moved towards her start offset, the one of a correction, or "
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
                              "picture of hdvr evaluate tracks --plot")
+    parser.add_argument("--fields", default=None, metavar="NAME,...",
+                        help="with --only before-after: only the pictures of these MultiTrackerConfig fields")
     args = parser.parse_args(argv)
 
     from dataclasses import replace
@@ -240,8 +244,11 @@ def main(argv=None) -> int:
             path = args.out / f"tracking_limit_s{seed}_{genre}_{frame_index:03d}.jpg"
             _write_jpeg(path, draw_case(frame, gt[frame_index], tracked[frame_index], detections))
             print(f"wrote {path}: {what}", file=sys.stderr)
+        fields = set(args.fields.split(",")) if args.fields else None
         for seed, index, genre, n, frame_index, field, name in BEFORE_AFTER if args.only in (None, "before-after") \
                 else ():
+            if fields is not None and field not in fields:
+                continue
             default = MultiTrackerConfig()
             off = replace(default, **{field: type(getattr(default, field))()})  # 0, 0.0 or False
             gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [off, default])
