@@ -1711,7 +1711,9 @@ class MultiDancerTracker(ReportedExtent):
         N, a detection whose body core overlaps other dancers' less than ``emerge_beside_overlap`` counts too, when
         its colours match each of their memories less than ``emerge_beside_similarity`` and such a detection lay on it
         on each of the N - 1 detector frames before (``DancerTrack.beside_now`` / ``beside_before``; detector frames
-        as :meth:`_count_detector_frame` counts them). ``front_histograms``: a dict of the colour histograms of the
+        as :meth:`_count_detector_frame` counts them); with ``emerge_own_margin`` m, so does one on the dancer's own
+        box (IoU >= 0.5) however much it overlaps the others, when its colours match the front dancer's memory by m
+        less than his box does now. ``front_histograms``: a dict of the colour histograms of the
         front dancers' boxes, by (dancer id, box), shared by the calls of a frame."""
         c = self.config
         front_histograms = {} if front_histograms is None else front_histograms
