@@ -592,6 +592,11 @@ class MultiDancerTracker(ReportedExtent):
             size[0] = detected[0] + (d.size_ratio[0] - 1.0) * d.ratio_aspect * detected[1]
         return size
 
+    def _detected_size(self, d: DancerTrack, detection) -> np.ndarray:
+        """(w, h) px of dancer ``d``'s box for ``detection`` (x, y, w, h px): :meth:`_box_size`, the detection cut by
+        the frame's left or right edge or not (:meth:`_cut_by_edge`)."""
+        return self._box_size(d, detection[2:], self._cut_by_edge([detection]) is not None)
+
     def _outside_cores(self, frame, dancers: list[DancerTrack]) -> np.ndarray:
         """uint8 mask of ``frame``: 255 except on the body cores of ``dancers`` (0), to take a histogram of what
         lies outside them."""
@@ -1134,8 +1139,7 @@ class MultiDancerTracker(ReportedExtent):
         onto it (centred there, at the dancer's box-to-detection size, :meth:`_box_size`) and its tracker restarts
         there. Its colour memory and stored velocity are kept (no re-identification happens; :meth:`_restart`
         touches neither)."""
-        cut = self._cut_by_edge([detection]) is not None
-        w, h = self._box_size(d, np.asarray(detection[2:], float), cut)
+        w, h = self._detected_size(d, detection)
         cx, cy = box_centre(detection)
         self._restart(d, frame, (cx - w / 2, cy - h / 2, float(w), float(h)), d.confidence)
         d.stuck, d.adapted_at = 0, self.frame_index
@@ -1204,7 +1208,7 @@ class MultiDancerTracker(ReportedExtent):
         (seed 2635 tango: a start box with spread arms stayed 145 px wide while the dancer, arms in, was 70)."""
         c = self.config
         a = c.box_adaptation
-        width = float(self._box_size(d, detection[2:], self._cut_by_edge([detection]) is not None)[0])
+        width = float(self._detected_size(d, detection)[0])
         x, y, w, h = d.box
         if width >= w:
             return
@@ -1292,8 +1296,7 @@ class MultiDancerTracker(ReportedExtent):
         # detections (``late_ratio_samples`` 0: only from a detection in the start frame)
         if retrack and c.late_ratio_samples and (d.size_ratio is None or d.ratio_samples):
             self._learn_late_ratio(d, detected)
-        cut = self._cut_by_edge([detection]) is not None
-        size = (1 - a) * np.array(d.box[2:]) + a * self._box_size(d, detected, cut)
+        size = (1 - a) * np.array(d.box[2:]) + a * self._detected_size(d, detection)
         d.offset = np.clip((1 - a) * d.offset + a * (box_centre(detection) - centre), -c.max_box_offset * size,
                            c.max_box_offset * size)
         d.box = box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))
@@ -1755,23 +1758,24 @@ class MultiDancerTracker(ReportedExtent):
                                 c.emerge_past_waiting and o.hidden_behind is not None
                                 and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
                 overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
+                half_beside = bool(overlapped) and max(v for _, v in overlaps) < c.emerge_beside_overlap
                 own = bool(c.emerge_own_margin) and c.emerge_beside_persist and fit >= 0.5 and front_now is not None
-                if overlapped and not own and (not c.emerge_beside_persist
-                                               or max(v for _, v in overlaps) >= c.emerge_beside_overlap):
+                if overlapped and not own and (not c.emerge_beside_persist or not half_beside):
                     continue
                 if k not in histograms:
                     histograms[k] = colour_histogram(frame, det)
                 hist = histograms[k]
-                if hist is None or histogram_similarity(hist, front.stored_histogram) >= unlike_front \
-                        or self._shows_known_dancer(hist, front):
+                if hist is None:
+                    continue
+                like_front = histogram_similarity(hist, front.stored_histogram)
+                if like_front >= unlike_front or self._shows_known_dancer(hist, front):
                     continue
                 if overlapped:  # beside others: unlike each of them, and there on the detector frames before
-                    beside = max(v for _, v in overlaps) < c.emerge_beside_overlap and not any(
+                    beside = half_beside and not any(
                         o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
                         >= c.emerge_beside_similarity for o in overlapped)
                     # or on its own box, far less like the dancer in front than his own box is now
-                    on_own = own and \
-                        histogram_similarity(hist, front.stored_histogram) < front_now - c.emerge_own_margin
+                    on_own = own and like_front < front_now - c.emerge_own_margin
                     if not (beside or on_own):
                         continue
                     count = _chain_length(d.beside_before, det)
