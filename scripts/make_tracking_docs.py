@@ -9,7 +9,8 @@ person boxes of that frame in white. Writes one JPEG per (seed, clip, frame) int
 hindsight (right), for those of ``KEYPOINT_REACH`` one with the boxes filled and smoothed (left) and widened to
 the dancers' keypoints before the smoothing (right), for those of ``HEAD_REACH`` one with the boxes widened
 (left) and lowered to a full pose's head (right), and for those of ``START_OFFSET`` one with the boxes before
-(left) and after (right) a dancer waiting hidden behind another is moved towards her start offset, as written, and
+(left) and after (right) a dancer waiting hidden behind another is moved towards her start offset, as written, for
+those of ``AMODAL`` one with the boxes written without (left) and with (right) the learned whole-body refiner, and
 for those of ``CORRECTION`` one with the boxes as tracked (left) and after the first correction of the simulated user
 of ``scripts/bench_corrections.py`` (right), at the frame after it where the corrected dancer's box gains most.
 
@@ -60,6 +61,11 @@ HEAD_REACH = (
 #: (seed, clip index, genre, dancers, frame, picture name): a frame where a dancer waits hidden behind another
 START_OFFSET = (
     (906, 2, "hip_hop", 3, 44, "tracking_start_offset_s906_hip_hop_044.jpg"),
+)
+#: (seed, clip index, genre, dancers, frame, picture name): a frame where the learned refiner moves the seen dancers'
+#: boxes to their whole body (a clip of seeds 2681-2700, which it was not trained on)
+AMODAL = (
+    (2694, 5, "ballet", 4, 54, "tracking_amodal_boxes_s2694_ballet_054.jpg"),
 )
 #: (seed, clip index, genre, dancers, picture name): a clip one correction mends
 CORRECTION = (
@@ -152,8 +158,8 @@ def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str
     widened to the keypoints, also lowered to a full pose's head (:func:`hdvr.tracking.hindsight.apply_hindsight`
     without the hidden starts), as written (a dancer waiting hidden moved towards her start offset too)], path of
     the video), dancers in the clip's order."""
-    from hdvr.tracking.hindsight import (apply_hindsight, enclose_keypoints, fill_occluded, hold_last_seen,
-                                         keep_start_offset, smooth_boxes, start_offsets)
+    from hdvr.tracking.hindsight import (HindsightSettings, apply_hindsight, enclose_keypoints, fill_occluded,
+                                         hold_last_seen, keep_start_offset, smooth_boxes, start_offsets)
     from hdvr.tracking.pipeline import track_video
 
     gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
@@ -162,7 +168,8 @@ def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str
     filled, mask = fill_occluded(run.boxes, run.status)
     filled, _ = hold_last_seen(filled, run.status, mask)
     widened, _ = enclose_keypoints(filled, run.status, run.keypoints, frame_width=run.size[0])
-    lowered, _ = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0])
+    lowered, _ = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
+                                 settings=HindsightSettings(amodal_boxes=False))
     written = keep_start_offset(lowered, run.status, start_offsets(run.boxes, run.hidden_starts))  # the last step
     steps = [smooth_boxes(filled, run.status), smooth_boxes(widened, run.status), lowered, written]
     return gt, [b[:, np.argsort(order)] for b in steps], video
@@ -217,11 +224,12 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
-                                           "correction", "timeline", "evaluation"),
+                                           "amodal", "correction", "timeline", "evaluation"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
-                             "the ones of a hidden dancer moved towards her start offset, the one of a correction, or "
+                             "the ones of a hidden dancer moved towards her start offset, the one of the learned "
+                             "whole-body (amodal) boxes, the one of a correction, or "
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
                              "picture of hdvr evaluate tracks --plot")
     parser.add_argument("--fields", default=None, metavar="NAME,...",
@@ -270,6 +278,21 @@ def main(argv=None) -> int:
                 _write_two_runs(path, video, detector, frame_index, gt, tracked[panels], titles)
                 print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the {step}",
                       file=sys.stderr)
+        for seed, index, genre, n, frame_index, name in AMODAL if args.only in (None, "amodal") else ():
+            from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
+
+            gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
+            run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
+                              write=False, hindsight=False)
+            tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
+                                       hidden_starts=run.hidden_starts,
+                                       settings=HindsightSettings(amodal_boxes=refined))[0][:, np.argsort(order)]
+                       for refined in (False, True)]
+            path = args.out / name
+            _write_two_runs(path, video, detector, frame_index, gt, tracked,
+                            ("--no-amodal-boxes", "whole-body boxes (as written)"))
+            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the amodal refiner",
+                  file=sys.stderr)
         for seed, index, genre, n, name in CORRECTION if args.only in (None, "correction") else ():
             frame_index, (t, dancer) = _write_correction(args.out / name, tmp, detector, seed, index, genre, n)
             print(f"wrote {args.out / name}: seed {seed} {genre}, frame {frame_index}, without and with a correction "

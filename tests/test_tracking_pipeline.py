@@ -44,6 +44,19 @@ def test_track_boxes_only(clip, tmp_path, capsys):
     overlay = VideoReader(out / "overlay.mp4")
     assert overlay.info.size == (640, 480) and sum(1 for _ in overlay) == 60
     assert (out / "timeline.png").stat().st_size > 0 and "wrote" in captured.out and "timeline.png" in captured.out
+    assert doc["hindsight"] is True and doc["amodal_boxes"] is True  # which last steps ran
+
+
+def test_no_amodal_boxes_writes_the_boxes_hindsight_leaves_and_says_so(clip, tmp_path):
+    """``--no-amodal-boxes`` leaves out the learned whole-body refiner, and tracks.json records it; so does
+    ``--no-hindsight``, of which the refiner is the last step."""
+    path, truth = clip
+    for flag in ("--no-amodal-boxes", "--no-hindsight"):
+        out = tmp_path / flag
+        assert main(["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "none",
+                     "--no-overlay", "--no-timeline", "--max-frames", "9", flag]) == 0
+        doc = json.loads((out / "tracks.json").read_text())
+        assert doc["amodal_boxes"] is False and doc["hindsight"] is (flag != "--no-hindsight")
 
 
 def _walker_behind_still():
@@ -438,7 +451,8 @@ def test_a_dancer_waiting_hidden_since_its_start_is_reported_hidden_and_not_fill
 def test_the_box_written_reaches_a_spread_arm_that_the_pose_shows(tmp_path):
     """The detector's person box leaves out a dancer's arm stretched to the left, its keypoints show it: the box
     written reaches past the wrist (by the body beyond it), the online box does not. (After the last detector frame,
-    21, no keypoints are written, and the smoothing over 9 frames carries that from frame 18 on.)"""
+    21, no keypoints are written, and the smoothing over 9 frames carries that from frame 18 on.) The learned amodal
+    refiner, which would move these boxes on (tests/test_tracking_amodal.py), is off."""
     from hdvr.pose2d.base import PersonPose
     from hdvr.tracking.hindsight import KEYPOINT_REACH, smooth_boxes
     from hdvr.tracking.pipeline import track_video
@@ -459,7 +473,8 @@ def test_the_box_written_reaches_a_spread_arm_that_the_pose_shows(tmp_path):
             return [PersonPose(kp, (x, y, w, h), 0.9)]
 
     runs = {hs: track_video(path, tmp_path / f"out{hs}", detector=ArmOutsideTheBox(), boxes=truth.boxes[0],
-                            detect_every=3, overlay=False, write=False, hindsight=hs) for hs in (True, False)}
+                            detect_every=3, overlay=False, write=False, hindsight=hs, amodal_boxes=False)
+            for hs in (True, False)}
     assert (runs[False].boxes[:, 0, 0] > wrist_x).all()
     written = runs[True].boxes[:, 0]
     assert np.abs(written[:18, 0] - (wrist_x - KEYPOINT_REACH * written[:18, 3])).max() < 1.0

@@ -43,6 +43,10 @@ def register(subparsers) -> None:
                         "it was not seen again), no fitting of boxes to the keypoints "
                         "chosen for them (widened to them, lowered to a full pose's head), no smoothing over time "
                         "(see docs/tracking.md)")
+    p.add_argument("--no-amodal-boxes", action="store_true",
+                   help="do not move the boxes of dancers seen to the whole body that the learned refiner predicts "
+                        "(the arm behind a partner, the leg the detector left out); the boxes then follow what "
+                        "shows of each dancer (see docs/tracking.md)")
     p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")
     p.add_argument("--no-timeline", action="store_true",
                    help="do not write timeline.png (each dancer's status and found keypoints over the frames)")
@@ -132,7 +136,8 @@ def run(args: argparse.Namespace) -> int:
     detector = make_detector(args)
     result = track_video(args.video, args.out, detector=detector, detect_every=args.detect_every,
                          overlay=not args.no_overlay, max_frames=args.max_frames, zoom_hidden=not args.no_zoom,
-                         hindsight=not args.no_hindsight, timeline=not args.no_timeline,
+                         hindsight=not args.no_hindsight,
+                         amodal_boxes=not args.no_amodal_boxes, timeline=not args.no_timeline,
                          detections_cache=None if args.no_detection_cache else Path(args.out) / "detections.npz",
                          **dancers)
     frames = result.boxes.shape[0]

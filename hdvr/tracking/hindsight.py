@@ -3,7 +3,7 @@ boxes widened to their keypoints (and lowered where they reach far above a full 
 the box of a dancer waiting hidden behind another kept partly at its start offset from that dancer, its feet near
 where the front dancer's say they are.
 
-Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so eight offline steps can use the
+Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so nine offline steps can use the
 frames after each one, as offline multi-object trackers do (ByteTrack's and StrongSORT's linear interpolation of the
 missing frames of a track, StrongSORT's smoothing of the boxes):
 
@@ -101,6 +101,11 @@ down; 2633 hip-hop 0.800 with 2 switches -> 0.994 with none); weights 0.35 and 0
 (seeds 2641-2680) it loses a little: 8 -> 8 failing, 1 clip up, 5 down (one of them a clip whose tracks were already
 swapped); over all 984 clips failing 41 -> 38 (docs/benchmarks.md "session 50").
 
+Last, :func:`hdvr.tracking.amodal.refine_boxes` moves the box of each dancer seen to the whole (amodal) body that a
+small network learned from hdvr synth clips predicts from the box, its keypoints and the other dancers' boxes
+(``HindsightSettings.amodal_boxes``; session 52: on clips it was not trained on, 15 + 9 + 5 -> 13 + 6 + 6 failing
+over three sets, HOTA up 0.03-0.04 on each; docs/tracking.md "Whole-body boxes").
+
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
 
@@ -113,6 +118,7 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from hdvr.io.keypoints2d import BODY25_NAMES
+from hdvr.tracking.amodal import refine_boxes
 from hdvr.tracking.state import HIDDEN, OCCLUDED, TRACKED
 
 #: frames in a row a dancer must be seen after a stretch occluded for the stretch to be filled towards it
@@ -524,7 +530,7 @@ class HindsightSettings:
     runs already tracked, ``scripts/hindsight_runs.py``). ``keypoint_reach`` and ``head_reach`` in box heights,
     ``smooth_window``, ``min_seen_after`` and ``hidden_walk_frames`` in frames, ``start_offset_weight``,
     ``hidden_fill_weight`` and ``start_place_weight`` fractions, ``hidden_feet_tolerance`` in box heights (``inf``:
-    off)."""
+    off). ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes` (the shipped weights)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
     keypoint_reach: float = KEYPOINT_REACH
@@ -535,6 +541,7 @@ class HindsightSettings:
     hidden_fill_weight: float = HIDDEN_FILL_WEIGHT
     hidden_walk_frames: int = HIDDEN_WALK_FRAMES
     start_place_weight: float = START_PLACE_WEIGHT
+    amodal_boxes: bool = True
 
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
@@ -544,8 +551,9 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     (``hidden_starts``: (frame, dancer, dancer in front) triples): :func:`fill_occluded`, :func:`hold_last_seen`,
     :func:`enclose_keypoints` (no wider than ``frame_width`` px), :func:`trim_above_pose`, :func:`smooth_boxes`,
     :func:`keep_start_offset` (with the start offsets of the online boxes), :func:`keep_feet_behind_front` (with
-    their start feet), :func:`fill_hidden_until_seen`, :func:`keep_start_place` (towards the online start boxes),
-    in that order, with ``settings``
+    their start feet), :func:`fill_hidden_until_seen`, :func:`keep_start_place` (towards the online start boxes)
+    and :func:`hdvr.tracking.amodal.refine_boxes` (seen dancers' boxes to their whole body), in that order, with
+    ``settings``
     (default: :class:`HindsightSettings`, the module's). Returns the boxes and the (T, N) bool mask of the frames
     filled."""
     s = settings or HindsightSettings()
@@ -560,4 +568,7 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     boxes = keep_feet_behind_front(boxes, status, feet, tolerance=s.hidden_feet_tolerance)
     boxes = fill_hidden_until_seen(boxes, status, hidden_starts, weight=s.hidden_fill_weight,
                                    walk_frames=s.hidden_walk_frames)
-    return keep_start_place(boxes, status, hidden_starts, weight=s.start_place_weight, start_boxes=online), filled
+    boxes = keep_start_place(boxes, status, hidden_starts, weight=s.start_place_weight, start_boxes=online)
+    if s.amodal_boxes:
+        boxes = refine_boxes(boxes, status, keypoints)
+    return boxes, filled

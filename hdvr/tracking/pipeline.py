@@ -38,7 +38,7 @@ from hdvr.pose2d.selection import PoseSelector
 from hdvr.progress import progress
 from hdvr.tracking.appearance import box_iou, box_overlap
 from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
-from hdvr.tracking.hindsight import apply_hindsight
+from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
 from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.state import HIDDEN, body_core
 from hdvr.tracking.timeline import draw_tracks_timeline
@@ -302,7 +302,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 boxes=None, num_dancers: int | None = None, detect_every: int = 1, overlay: bool = True,
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
-                zoom_hidden: bool = True, hindsight: bool = True,
+                zoom_hidden: bool = True, hindsight: bool = True, amodal_boxes: bool = True,
                 corrections: list[BoxCorrection] | None = None,
                 swaps: list[IdentitySwap] | None = None, timeline: bool = True,
                 detections_cache: str | os.PathLike | None = None) -> TrackRun:
@@ -321,7 +321,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     (:func:`hdvr.tracking.hindsight.enclose_keypoints`), lower the top of a box that reaches far above a full pose
     (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
     (:func:`hdvr.tracking.hindsight.smooth_boxes`), all in :func:`hdvr.tracking.hindsight.apply_hindsight`; off, the
-    boxes are those of the online tracker. ``timeline``: also draw ``timeline.png``, each dancer's status, found
+    boxes are those of the online tracker. ``amodal_boxes`` (with ``hindsight``): last, move each seen dancer's box
+    to the whole body that the learned refiner predicts (:func:`hdvr.tracking.amodal.refine_boxes`). ``timeline``:
+    also draw ``timeline.png``, each dancer's status, found
     keypoints, corrections and swaps over the frames (:func:`hdvr.tracking.timeline.draw_tracks_timeline`).
     ``detections_cache``: an NPZ file (:mod:`hdvr.pose2d.cache`) from which the detector's people are taken for the
     frames it holds, if it was written for this video and detector settings, and to which those of this run are
@@ -490,7 +492,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     run.filled = np.zeros(run.boxes.shape[:2], bool)
     if hindsight:
         run.boxes, run.filled = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=info.size[0],
-                                                hidden_starts=hidden_starts)
+                                                hidden_starts=hidden_starts,
+                                                settings=HindsightSettings(amodal_boxes=amodal_boxes))
     for c in corrections:  # written as the user gave them (or as found where the user pointed)
         if c.frame < len(run.boxes) and c.box is not None:
             run.boxes[c.frame, c.dancer] = c.box
@@ -498,6 +501,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     if write:
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
+            "hindsight": hindsight, "amodal_boxes": hindsight and amodal_boxes,
             "starts": [{"frame": st.frame, "box": [float(v) for v in st.box]} for st in starts],
             "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts],
             "corrections": [{"frame": c.frame, "dancer": c.dancer,
