@@ -125,10 +125,11 @@ def print_summary(s: dict) -> None:
 
 def train(clips: list[Clip], args) -> dict:
     x, y = training_rows(clips)
-    print(f"training on {len(x)} dancer-frames of {len(clips)} clips", flush=True)
+    print(f"training on {len(x)} dancer-frames of {len(clips)} clips"
+          f"{'' if args.no_mirror else ' and their mirror images'}", flush=True)
     started = time.perf_counter()
     payload = train_refiner(x, y, hidden=args.hidden, dropout=args.dropout, epochs=args.epochs,
-                            members=args.members, seed=args.seed,
+                            members=args.members, mirror=not args.no_mirror, seed=args.seed,
                             progress=lambda m, e, loss: print(f"  network {m + 1}/{args.members} epoch "
                                                               f"{e + 1}/{args.epochs}: loss {loss:.4f}", flush=True))
     print(f"  {time.perf_counter() - started:.0f} s", flush=True)
@@ -161,6 +162,7 @@ def main(argv=None) -> int:
     parser.add_argument("--dropout", type=float, default=0.2)
     parser.add_argument("--epochs", type=int, default=10)
     parser.add_argument("--members", type=int, default=3, help="networks in the ensemble")
+    parser.add_argument("--no-mirror", action="store_true", help="train without the mirror images of the rows")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--json", type=Path, help="write the summaries (and per-clip scores) here")
     args = parser.parse_args(argv)

@@ -44,11 +44,12 @@ def test_train_cross_validate_and_score(tmp_path, capsys):
     out = tmp_path / "weights" / "amodal.pt"
     assert script.main(["train", "--data", first, "--data", second, "--out", str(out)] + small) == 0
     refiner = AmodalBoxRefiner.load(out)
-    assert len(refiner.networks) == 2 and refiner.payload["hidden"] == 16 and refiner.payload["rows"] == 4 * 2 * 12
+    assert len(refiner.networks) == 2 and refiner.payload["hidden"] == 16 and refiner.payload["rows"] == 2 * 4 * 2 * 12
+    assert refiner.payload["mirror"] is True  # the rows and their mirror images
     assert [s.split(" (")[1] for s in refiner.payload["trained_on"]] == ["2 clips)", "2 clips)"]
     assert not list(out.parent.glob("*.tmp"))  # written atomically, nothing left beside it
     printed = capsys.readouterr().out
-    assert "training on 96 dancer-frames of 4 clips" in printed and "network 2/2 epoch 300/300" in printed
+    assert "training on 96 dancer-frames of 4 clips and their mirror images" in printed and "network 2/2 epoch 300/300" in printed
     report = tmp_path / "cv.json"
     assert script.main(["cross-validate", "--data", first, "--data", second, "--json", str(report)] + small) == 0
     summaries = json.loads(report.read_text())["summaries"]

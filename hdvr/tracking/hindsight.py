@@ -103,8 +103,8 @@ swapped); over all 984 clips failing 41 -> 38 (docs/benchmarks.md "session 50").
 
 Last, :func:`hdvr.tracking.amodal.refine_boxes` moves the box of each dancer seen to the whole (amodal) body that a
 small network learned from hdvr synth clips predicts from the box, its keypoints and the other dancers' boxes
-(``HindsightSettings.amodal_boxes``; session 52: on clips it was not trained on, 15 + 9 + 5 -> 13 + 6 + 6 failing
-over three sets, HOTA up 0.03-0.04 on each; docs/tracking.md "Whole-body boxes").
+(``HindsightSettings.amodal_boxes``; session 52: on clips it was not trained on, 15 + 9 + 5 -> 13 + 6 + 5 failing
+over three sets, HOTA up 0.04 on each; docs/tracking.md "Whole-body boxes").
 
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
