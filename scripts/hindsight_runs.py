@@ -18,7 +18,10 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
 
 CLIPS holds ``synth-SEED/clip_0000I`` folders as ``bench_track.py --clips-dir`` writes them (rendered here when
 missing); RUNS one ``SEED_INDEX.npz`` per clip (keys: boxes, status, keypoints, order, hidden_starts, width).
-``--set`` takes the fields of :class:`hdvr.tracking.hindsight.HindsightSettings`. ``--per-clip-json`` writes the
+``--set`` takes the fields of :class:`hdvr.tracking.hindsight.HindsightSettings` (``amodal_boxes=false``: without
+the learned whole-body refiner, whose shipped weights were trained on the runs of seeds 201-212, 301-312, 2101-2512
+and 2601-2680, so that their scores with it are in-sample: compare other settings there with it off, or train it
+again with ``scripts/train_amodal_boxes.py cross-validate``). ``--per-clip-json`` writes the
 format of ``bench_track.py --per-clip-json``, for ``scripts/compare_track_runs.py``.
 
 An online rule (a ``MultiTrackerConfig`` field, ``--tracker-config`` as in ``bench_track.py``) changes the runs
@@ -101,6 +104,11 @@ def parse_settings(pairs: list[str]) -> HindsightSettings:
         name, _, value = pair.partition("=")
         if name not in fields:
             raise SystemExit(f"hindsight_runs: unknown setting {name!r} (known: {', '.join(fields)})")
+        if fields[name] in (bool, "bool"):
+            if value.lower() not in ("true", "false", "1", "0"):
+                raise SystemExit(f"hindsight_runs: setting {name} needs true or false, got {value!r}")
+            values[name] = value.lower() in ("true", "1")
+            continue
         try:
             values[name] = int(value) if fields[name] in (int, "int") else float(value)
         except ValueError:

@@ -64,6 +64,10 @@ def test_settings_are_parsed_with_clear_errors():
         script.parse_settings(["reach=0.1"])
     with pytest.raises(SystemExit, match="needs a number"):
         script.parse_settings(["keypoint_reach=wide"])
+    assert script.parse_settings(["amodal_boxes=false"]) == HindsightSettings(amodal_boxes=False)
+    assert script.parse_settings(["amodal_boxes=True"]).amodal_boxes is True
+    with pytest.raises(SystemExit, match="needs true or false"):
+        script.parse_settings(["amodal_boxes=maybe"])
 
 
 def test_failing_and_summary_count_the_issue_target():
