@@ -7,9 +7,10 @@ Where a dancer overlaps others the two differ by amounts that hand-set rules cou
 the visible arm onto the hidden side made 21,479 of 30,173 boxes worse: docs/benchmarks.md "session 52"), but that
 follow from the configuration: which keypoints were found where in the box, and where the other dancers' boxes lie.
 
-:class:`AmodalBoxRefiner` is a two-layer perceptron, trained by ``scripts/train_amodal_boxes.py`` on hdvr synth clips
-(whose ground truth is amodal), that maps the :func:`amodal_features` of a dancer in one frame to the four edge
-offsets of its whole-body box (:func:`edge_targets`). :func:`refine_boxes` applies it to the boxes of dancers seen
+:class:`AmodalBoxRefiner` is the mean of three two-layer perceptrons, trained by ``scripts/train_amodal_boxes.py``
+(:func:`train_refiner`) on hdvr synth clips, whose ground truth is amodal, and on their mirror images
+(:func:`mirror_rows`); it maps the :func:`amodal_features` of a dancer in one frame to the four edge offsets of its
+whole-body box (:func:`edge_targets`). :func:`refine_boxes` applies it to the boxes of dancers seen
 (status ``tracked``) as the last step of :func:`hdvr.tracking.hindsight.apply_hindsight`; the other dancers' boxes
 (occluded, waiting hidden) are guesses of another kind and are left as they are (refining them too lost clips).
 
