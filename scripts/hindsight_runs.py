@@ -104,6 +104,9 @@ def parse_settings(pairs: list[str]) -> HindsightSettings:
         name, _, value = pair.partition("=")
         if name not in fields:
             raise SystemExit(f"hindsight_runs: unknown setting {name!r} (known: {', '.join(fields)})")
+        if fields[name] in (str, "str"):
+            values[name] = value
+            continue
         if fields[name] in (bool, "bool"):
             if value.lower() not in ("true", "false", "1", "0"):
                 raise SystemExit(f"hindsight_runs: setting {name} needs true or false, got {value!r}")

@@ -66,6 +66,7 @@ def test_settings_are_parsed_with_clear_errors():
         script.parse_settings(["keypoint_reach=wide"])
     assert script.parse_settings(["amodal_boxes=false"]) == HindsightSettings(amodal_boxes=False)
     assert script.parse_settings(["amodal_boxes=True"]).amodal_boxes is True
+    assert script.parse_settings(["amodal_weights=own.pt"]).amodal_weights == "own.pt"
     with pytest.raises(SystemExit, match="needs true or false"):
         script.parse_settings(["amodal_boxes=maybe"])
 

@@ -59,6 +59,28 @@ def test_no_amodal_boxes_writes_the_boxes_hindsight_leaves_and_says_so(clip, tmp
         assert doc["amodal_boxes"] is False and doc["hindsight"] is (flag != "--no-hindsight")
 
 
+def test_amodal_weights_of_ones_own_are_used_and_a_bad_file_stops_before_tracking(clip, tmp_path, capsys):
+    """``--amodal-weights W.pt`` (trained by scripts/train_amodal_boxes.py) replaces the shipped weights and is
+    recorded in tracks.json; a missing file is a one-line error before any frame is tracked."""
+    import torch
+
+    from hdvr.tracking.amodal import AmodalBoxRefiner
+
+    path, truth = clip
+    weights = tmp_path / "own.pt"
+    torch.save(AmodalBoxRefiner.load().payload, weights)
+    out = tmp_path / "own"
+    assert main(["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "none",
+                 "--no-overlay", "--no-timeline", "--max-frames", "9", "--amodal-weights", str(weights)]) == 0
+    assert json.loads((out / "tracks.json").read_text())["amodal_weights"] == str(weights)
+    capsys.readouterr()
+    assert main(["track", str(path), "--out", str(tmp_path / "bad"), "--boxes", _boxes_arg(truth), "--detector",
+                 "none", "--amodal-weights", str(tmp_path / "none.pt")]) != 0
+    err = capsys.readouterr().err
+    assert "amodal box weights not found" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "bad" / "tracks.json").exists()
+
+
 def _walker_behind_still():
     """A still figure and one starting with its box mostly behind it (feet higher), walking out to the left."""
     still = FigureSpec((160.0, 130.0), (0.0, 0.0), 150.0, ((40, 40, 210), (40, 200, 230)), depth=1.0)

@@ -47,6 +47,9 @@ def register(subparsers) -> None:
                    help="do not move the boxes of dancers seen to the whole body that the learned refiner predicts "
                         "(the arm behind a partner, the leg the detector left out); the boxes then follow what "
                         "shows of each dancer (see docs/tracking.md)")
+    p.add_argument("--amodal-weights", default=None, metavar="W.pt",
+                   help="weights of the whole-body refiner trained by scripts/train_amodal_boxes.py on your own "
+                        "runs (default: the shipped ones, trained on hdvr synth clips with YOLO11n-pose at 480 px)")
     p.add_argument("--no-overlay", action="store_true", help="do not write overlay.mp4")
     p.add_argument("--no-timeline", action="store_true",
                    help="do not write timeline.png (each dancer's status and found keypoints over the frames)")
@@ -136,8 +139,8 @@ def run(args: argparse.Namespace) -> int:
     detector = make_detector(args)
     result = track_video(args.video, args.out, detector=detector, detect_every=args.detect_every,
                          overlay=not args.no_overlay, max_frames=args.max_frames, zoom_hidden=not args.no_zoom,
-                         hindsight=not args.no_hindsight,
-                         amodal_boxes=not args.no_amodal_boxes, timeline=not args.no_timeline,
+                         hindsight=not args.no_hindsight, amodal_boxes=not args.no_amodal_boxes,
+                         amodal_weights=args.amodal_weights, timeline=not args.no_timeline,
                          detections_cache=None if args.no_detection_cache else Path(args.out) / "detections.npz",
                          **dancers)
     frames = result.boxes.shape[0]

@@ -232,6 +232,11 @@ def _cached_refiner(path: str) -> AmodalBoxRefiner:
     return AmodalBoxRefiner.load(path)
 
 
+def load_refiner(path: str | os.PathLike | None = None) -> AmodalBoxRefiner:
+    """The refiner of the weights at ``path`` (None or "": the shipped ones), loaded once per path and process."""
+    return _cached_refiner(str(Path(path).resolve()) if path else str(DEFAULT_WEIGHTS))
+
+
 def refine_boxes(boxes: np.ndarray, status, keypoints: np.ndarray, refiner: AmodalBoxRefiner | None = None,
                  statuses=(TRACKED,)) -> np.ndarray:
     """``boxes`` (T, N, 4) px with the box of each dancer whose status is in ``statuses`` (default: seen) moved to
@@ -247,7 +252,7 @@ def refine_boxes(boxes: np.ndarray, status, keypoints: np.ndarray, refiner: Amod
     chosen = usable & np.isin(np.asarray(status), statuses)
     out = boxes.copy()
     if chosen.any():
-        refiner = refiner or _cached_refiner(str(DEFAULT_WEIGHTS))
+        refiner = refiner or load_refiner()
         out[chosen] = apply_edges(boxes[chosen], refiner.edges(features[chosen]))
     return out
 

@@ -118,7 +118,7 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from hdvr.io.keypoints2d import BODY25_NAMES
-from hdvr.tracking.amodal import refine_boxes
+from hdvr.tracking.amodal import load_refiner, refine_boxes
 from hdvr.tracking.state import HIDDEN, OCCLUDED, TRACKED
 
 #: frames in a row a dancer must be seen after a stretch occluded for the stretch to be filled towards it
@@ -530,7 +530,8 @@ class HindsightSettings:
     runs already tracked, ``scripts/hindsight_runs.py``). ``keypoint_reach`` and ``head_reach`` in box heights,
     ``smooth_window``, ``min_seen_after`` and ``hidden_walk_frames`` in frames, ``start_offset_weight``,
     ``hidden_fill_weight`` and ``start_place_weight`` fractions, ``hidden_feet_tolerance`` in box heights (``inf``:
-    off). ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes` (the shipped weights)."""
+    off). ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at ``amodal_weights``
+    ("": the shipped ones)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
     keypoint_reach: float = KEYPOINT_REACH
@@ -542,6 +543,7 @@ class HindsightSettings:
     hidden_walk_frames: int = HIDDEN_WALK_FRAMES
     start_place_weight: float = START_PLACE_WEIGHT
     amodal_boxes: bool = True
+    amodal_weights: str = ""
 
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
@@ -570,5 +572,5 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
                                    walk_frames=s.hidden_walk_frames)
     boxes = keep_start_place(boxes, status, hidden_starts, weight=s.start_place_weight, start_boxes=online)
     if s.amodal_boxes:
-        boxes = refine_boxes(boxes, status, keypoints)
+        boxes = refine_boxes(boxes, status, keypoints, load_refiner(s.amodal_weights))
     return boxes, filled

@@ -38,6 +38,7 @@ from hdvr.pose2d.selection import PoseSelector
 from hdvr.progress import progress
 from hdvr.tracking.appearance import box_iou, box_overlap
 from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
+from hdvr.tracking.amodal import load_refiner
 from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
 from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.state import HIDDEN, body_core
@@ -303,6 +304,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
                 zoom_hidden: bool = True, hindsight: bool = True, amodal_boxes: bool = True,
+                amodal_weights: str | os.PathLike | None = None,
                 corrections: list[BoxCorrection] | None = None,
                 swaps: list[IdentitySwap] | None = None, timeline: bool = True,
                 detections_cache: str | os.PathLike | None = None) -> TrackRun:
@@ -322,7 +324,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
     (:func:`hdvr.tracking.hindsight.smooth_boxes`), all in :func:`hdvr.tracking.hindsight.apply_hindsight`; off, the
     boxes are those of the online tracker. ``amodal_boxes`` (with ``hindsight``): last, move each seen dancer's box
-    to the whole body that the learned refiner predicts (:func:`hdvr.tracking.amodal.refine_boxes`). ``timeline``:
+    to the whole body that the learned refiner predicts (:func:`hdvr.tracking.amodal.refine_boxes`), with the
+    weights at ``amodal_weights`` (None: the shipped ones; read before tracking starts). ``timeline``:
     also draw ``timeline.png``, each dancer's status, found
     keypoints, corrections and swaps over the frames (:func:`hdvr.tracking.timeline.draw_tracks_timeline`).
     ``detections_cache``: an NPZ file (:mod:`hdvr.pose2d.cache`) from which the detector's people are taken for the
@@ -333,6 +336,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     cpu_started = time.process_time()
     if detect_every < 1:
         raise HDVRError(f"--detect-every must be >= 1, got {detect_every}")
+    if hindsight and amodal_boxes and amodal_weights:
+        load_refiner(amodal_weights)  # a missing or foreign file stops here, not after the whole video
     reader = VideoReader(video)
     info = reader.info
     cache_signature = None
@@ -493,7 +498,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     if hindsight:
         run.boxes, run.filled = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=info.size[0],
                                                 hidden_starts=hidden_starts,
-                                                settings=HindsightSettings(amodal_boxes=amodal_boxes))
+                                                settings=HindsightSettings(amodal_boxes=amodal_boxes,
+                                                                           amodal_weights=str(amodal_weights or "")))
     for c in corrections:  # written as the user gave them (or as found where the user pointed)
         if c.frame < len(run.boxes) and c.box is not None:
             run.boxes[c.frame, c.dancer] = c.box
@@ -502,6 +508,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         run.outputs += write_outputs(out, run, extra={
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
             "hindsight": hindsight, "amodal_boxes": hindsight and amodal_boxes,
+            "amodal_weights": str(amodal_weights) if hindsight and amodal_boxes and amodal_weights else None,
             "starts": [{"frame": st.frame, "box": [float(v) for v in st.box]} for st in starts],
             "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts],
             "corrections": [{"frame": c.frame, "dancer": c.dancer,
