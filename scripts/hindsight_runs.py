@@ -169,17 +169,27 @@ def save(args) -> int:
     return 0
 
 
-def score(args) -> int:
-    settings = parse_settings(args.set or [])
-    paths = sorted(args.runs.glob("*_*.npz"), key=lambda p: tuple(int(v) for v in p.stem.split("_")))
+def kept_runs(clips_dir: Path, runs_dir: Path, prog: str = "hindsight_runs") -> list[tuple[Path, int, int, Path]]:
+    """(run path, seed, clip index, clip folder) of every kept run ``SEED_INDEX.npz`` in ``runs_dir``, in seed and
+    index order, each with its clip in ``clips_dir``; a one-line error (``prog: ...``) where there is none, or where
+    a clip's ``gt.npz`` is missing."""
+    paths = sorted(Path(runs_dir).glob("*_*.npz"), key=lambda p: tuple(int(v) for v in p.stem.split("_")))
     if not paths:
-        raise SystemExit(f"hindsight_runs: no kept runs (SEED_INDEX.npz) in {args.runs}")
-    scores = {}
+        raise SystemExit(f"{prog}: no kept runs (SEED_INDEX.npz) in {runs_dir}")
+    out = []
     for path in paths:
         seed, index = (int(v) for v in path.stem.split("_"))
-        clip = synth_clip_folder(args.clips_dir, clip_spec(seed, index))
+        clip = synth_clip_folder(clips_dir, clip_spec(seed, index))
         if not (clip / "gt.npz").is_file():
-            raise SystemExit(f"hindsight_runs: no ground truth for run {path.name}: {clip / 'gt.npz'} is missing")
+            raise SystemExit(f"{prog}: no ground truth for run {path.name}: {clip / 'gt.npz'} is missing")
+        out.append((path, seed, index, clip))
+    return out
+
+
+def score(args) -> int:
+    settings = parse_settings(args.set or [])
+    scores = {}
+    for path, seed, index, clip in kept_runs(args.clips_dir, args.runs):
         truth_boxes, _ = _seen_truth(clip)
         scores[f"{seed}:{index}:0.3"] = {"genre": SYNTH_CLIPS[index][0],
                                          **score_run(load_run(path), truth_boxes, settings)}

@@ -24,7 +24,6 @@ import argparse
 import json
 import os
 import sys
-import tempfile
 import time
 from pathlib import Path
 from typing import NamedTuple
@@ -32,9 +31,11 @@ from typing import NamedTuple
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from bench_track import SYNTH_CLIPS, _seen_truth, synth_clip_folder  # noqa: E402
-from hindsight_runs import clip_spec, load_run  # noqa: E402
+from bench_track import SYNTH_CLIPS, _seen_truth  # noqa: E402
+from compare_track_runs import failing  # noqa: E402
+from hindsight_runs import kept_runs, load_run  # noqa: E402
 
+from hdvr.io.atomic import atomic_path  # noqa: E402
 from hdvr.tracking.amodal import (AmodalBoxRefiner, amodal_features, edge_targets, refine_boxes,  # noqa: E402
                                   train_refiner)
 from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
@@ -60,15 +61,8 @@ def load_set(spec: str) -> list[Clip]:
     clips_dir, runs_dir = Path(clips_dir), Path(runs_dir)
     if not runs_dir.is_dir() or not clips_dir.is_dir():
         raise SystemExit(f"train_amodal_boxes: --data {spec}: need CLIPS:RUNS folders")
-    paths = sorted(runs_dir.glob("*_*.npz"), key=lambda p: tuple(int(v) for v in p.stem.split("_")))
-    if not paths:
-        raise SystemExit(f"train_amodal_boxes: no kept runs (SEED_INDEX.npz) in {runs_dir}")
     out = []
-    for path in paths:
-        seed, index = (int(v) for v in path.stem.split("_"))
-        clip = synth_clip_folder(clips_dir, clip_spec(seed, index))
-        if not (clip / "gt.npz").is_file():
-            raise SystemExit(f"train_amodal_boxes: no ground truth for run {path.name}: {clip / 'gt.npz'} is missing")
+    for path, _, _, clip in kept_runs(clips_dir, runs_dir, prog="train_amodal_boxes"):
         run = load_run(path)
         truth, _ = _seen_truth(clip)
         boxes = apply_hindsight(run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
@@ -96,24 +90,24 @@ def score_clips(clips: list[Clip], refiner: AmodalBoxRefiner | None) -> dict:
         boxes = c.boxes if refiner is None else refine_boxes(c.boxes, c.run["status"], c.run["keypoints"], refiner)
         # the truth is in the run's order; the evaluation wants the boxes in the truth's
         s = evaluate_tracking(c.truth, boxes)
-        seed, index = (int(v) for v in c.key.split("_"))
+        index = int(c.key.split("_")[1])
         out[c.key] = {"genre": SYNTH_CLIPS[index][0], "idf1": s.idf1, "id_switches": s.id_switches, "hota": s.hota}
     return out
 
 
 def summarise(name: str, before: dict, after: dict) -> dict:
-    """Failing clips, mean IDF1 and HOTA before and after, and the clips mended and broken."""
-    def fails(v):
-        return v["idf1"] < 0.9 or v["id_switches"] > 0
+    """Failing clips (:func:`compare_track_runs.failing`), mean IDF1 and HOTA before and after, and the clips mended
+    and broken."""
     keys = sorted(before)
     return {"set": name, "clips": len(keys),
-            "failing_before": sum(fails(before[k]) for k in keys), "failing_after": sum(fails(after[k]) for k in keys),
+            "failing_before": sum(failing(before[k]) for k in keys),
+            "failing_after": sum(failing(after[k]) for k in keys),
             "idf1_before": float(np.mean([before[k]["idf1"] for k in keys])),
             "idf1_after": float(np.mean([after[k]["idf1"] for k in keys])),
             "hota_before": float(np.mean([before[k]["hota"] for k in keys])),
             "hota_after": float(np.mean([after[k]["hota"] for k in keys])),
-            "mended": [k for k in keys if fails(before[k]) and not fails(after[k])],
-            "broken": [k for k in keys if not fails(before[k]) and fails(after[k])]}
+            "mended": [k for k in keys if failing(before[k]) and not failing(after[k])],
+            "broken": [k for k in keys if not failing(before[k]) and failing(after[k])]}
 
 
 def print_summary(s: dict) -> None:
@@ -140,15 +134,8 @@ def save_atomically(payload: dict, path: Path) -> None:
     import torch
 
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         torch.save(payload, tmp)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
 
 
 def main(argv=None) -> int:

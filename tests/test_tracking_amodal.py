@@ -143,6 +143,11 @@ def test_the_shipped_weights_load_safely_and_refine_deterministically():
     boxes, status, keypoints = _pair()
     first = refine_boxes(boxes, status, keypoints)
     np.testing.assert_array_equal(first, refine_boxes(boxes, status, keypoints, AmodalBoxRefiner.load()))
+    np.testing.assert_array_equal(first, refine_boxes(boxes, status, keypoints, weights=DEFAULT_WEIGHTS))
+    # weights are read only when a box is to be moved: a run without poses never opens them
+    np.testing.assert_array_equal(refine_boxes(boxes, status, np.zeros_like(keypoints), weights="/no/such.pt"), boxes)
+    with pytest.raises(HDVRError, match="not found"):
+        refine_boxes(boxes, status, keypoints, weights="/no/such.pt")
     assert np.isfinite(first).all() and (first[..., 2:] > 0).all()
     # small corrections: a box is moved by a fraction of its height, not onto another place
     assert np.abs(edge_targets(boxes, first)).max() < 0.5

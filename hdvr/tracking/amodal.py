@@ -238,21 +238,21 @@ def load_refiner(path: str | os.PathLike | None = None) -> AmodalBoxRefiner:
 
 
 def refine_boxes(boxes: np.ndarray, status, keypoints: np.ndarray, refiner: AmodalBoxRefiner | None = None,
-                 statuses=(TRACKED,)) -> np.ndarray:
+                 statuses=(TRACKED,), weights: str | os.PathLike | None = None) -> np.ndarray:
     """``boxes`` (T, N, 4) px with the box of each dancer whose status is in ``statuses`` (default: seen) moved to
-    the whole-body box ``refiner`` predicts (default: the shipped weights, ``hdvr/data/amodal_boxes.pt``). Other
-    boxes, and rows without a box, are kept; the input is not changed. A run without a single keypoint (tracked
+    the whole-body box ``refiner`` predicts (default: the weights at ``weights``, :func:`load_refiner`, loaded only
+    when a box is to be moved). Other boxes, and rows without a box, are kept; the input is not changed. A run without a single keypoint (tracked
     with no pose detector) is returned as it is: the refiner learned from runs with one, and a box alone says too
     little. Frames of a run with poses where a dancer has none are refined (they are about 8 % of the frames seen,
     and leaving them out lost a clip of 120 fresh ones: docs/benchmarks.md "session 52")."""
     boxes = np.asarray(boxes, float)
-    features, usable = amodal_features(boxes, status, keypoints)
     if not (np.asarray(keypoints, float)[..., 2] > 0).any():
         return boxes.copy()
+    features, usable = amodal_features(boxes, status, keypoints)
     chosen = usable & np.isin(np.asarray(status), statuses)
     out = boxes.copy()
     if chosen.any():
-        refiner = refiner or load_refiner()
+        refiner = refiner or load_refiner(weights)
         out[chosen] = apply_edges(boxes[chosen], refiner.edges(features[chosen]))
     return out
 

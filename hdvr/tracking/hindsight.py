@@ -118,7 +118,7 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from hdvr.io.keypoints2d import BODY25_NAMES
-from hdvr.tracking.amodal import load_refiner, refine_boxes
+from hdvr.tracking.amodal import refine_boxes
 from hdvr.tracking.state import HIDDEN, OCCLUDED, TRACKED
 
 #: frames in a row a dancer must be seen after a stretch occluded for the stretch to be filled towards it
@@ -572,5 +572,5 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
                                    walk_frames=s.hidden_walk_frames)
     boxes = keep_start_place(boxes, status, hidden_starts, weight=s.start_place_weight, start_boxes=online)
     if s.amodal_boxes:
-        boxes = refine_boxes(boxes, status, keypoints, load_refiner(s.amodal_weights))
+        boxes = refine_boxes(boxes, status, keypoints, weights=s.amodal_weights)
     return boxes, filled
