@@ -46,6 +46,7 @@ from bench_track import (SYNTH_CLIPS, _seen_truth, _starts_from_truth, default_t
                          parse_tracker_config, synth_clip_folder, track_synth_clip)
 from compare_track_runs import failing, summary  # noqa: E402
 
+from hdvr.io.atomic import atomic_path  # noqa: E402
 from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
 from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight  # noqa: E402
 
@@ -64,11 +65,11 @@ def clip_spec(seed: int, index: int, seconds: float = 4.0):
 def save_run(path: Path, run, order) -> None:
     """Keep what hindsight needs of a ``track_video(..., hindsight=False)`` run (``TrackRun``), with the dancers'
     ``order`` (written id -> ground-truth index, as ``bench_track``'s starts), in NPZ ``path`` (written atomically)."""
-    tmp = path.with_name(path.stem + ".part.npz")
-    np.savez_compressed(tmp, boxes=run.boxes, status=np.array(run.status, dtype="U10").reshape(run.boxes.shape[:2]),
-                        keypoints=run.keypoints, order=np.asarray(order, int),
-                        hidden_starts=np.array(run.hidden_starts, int).reshape(-1, 3), width=float(run.size[0]))
-    tmp.replace(path)
+    with atomic_path(path) as tmp:
+        np.savez_compressed(tmp, boxes=run.boxes,
+                            status=np.array(run.status, dtype="U10").reshape(run.boxes.shape[:2]),
+                            keypoints=run.keypoints, order=np.asarray(order, int),
+                            hidden_starts=np.array(run.hidden_starts, int).reshape(-1, 3), width=float(run.size[0]))
 
 
 def load_run(path: Path) -> dict:
@@ -198,9 +199,8 @@ def score(args) -> int:
     print("failing: " + " ".join(f"{k.rsplit(':', 1)[0]} {v['idf1']:.3f}/{v['id_switches']}"
                                  for k, v in scores.items() if failing(v)))
     if args.per_clip_json:
-        tmp = args.per_clip_json.with_name(args.per_clip_json.name + ".part")
-        tmp.write_text(json.dumps({"hindsight": dataclasses.asdict(settings), "clips": scores}, indent=1))
-        tmp.replace(args.per_clip_json)
+        with atomic_path(args.per_clip_json) as tmp:
+            tmp.write_text(json.dumps({"hindsight": dataclasses.asdict(settings), "clips": scores}, indent=1))
     return 0
 
 

@@ -130,14 +130,6 @@ def train(clips: list[Clip], args) -> dict:
     return payload
 
 
-def save_atomically(payload: dict, path: Path) -> None:
-    import torch
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with atomic_path(path) as tmp:
-        torch.save(payload, tmp)
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("command", choices=("train", "cross-validate", "score"))
@@ -164,7 +156,8 @@ def main(argv=None) -> int:
             raise SystemExit("train_amodal_boxes: train needs --out")
         payload = train([c for v in sets.values() for c in v], args)
         payload["trained_on"] = [f"{spec} ({len(v)} clips)" for spec, v in sets.items()]
-        save_atomically(payload, args.out)
+        with atomic_path(args.out) as tmp:  # the folder is made if missing
+            torch.save(payload, tmp)
         print(f"wrote {args.out}")
     elif args.command == "cross-validate":
         if len(sets) < 2:
