@@ -67,6 +67,11 @@ START_OFFSET = (
 AMODAL = (
     (2694, 5, "ballet", 4, 54, "tracking_amodal_boxes_s2694_ballet_054.jpg"),
 )
+#: (seed, clip index, genre, dancers, frame, picture name): a frame where a dancer in plain view that the whole
+#: frame's detection misses (a leg kicked high) gets its pose from a crop about it (``zoom_unposed``; session 53)
+UNPOSED = (
+    (2685, 4, "hip_hop", 4, 63, "tracking_zoom_unposed_s2685_hip_hop_063.jpg"),
+)
 #: (seed, clip index, genre, dancers, picture name): a clip one correction mends
 CORRECTION = (
     (1412, 2, "hip_hop", 3, "tracking_correction_s1412_hip_hop.jpg"),
@@ -224,12 +229,13 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
-                                           "amodal", "correction", "timeline", "evaluation"),
+                                           "amodal", "unposed", "correction", "timeline", "evaluation"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
                              "the ones of a hidden dancer moved towards her start offset, the one of the learned "
-                             "whole-body (amodal) boxes, the one of a correction, or "
+                             "whole-body (amodal) boxes, the one of a dancer's pose found zoomed in, the one of a "
+                             "correction, or "
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
                              "picture of hdvr evaluate tracks --plot")
     parser.add_argument("--fields", default=None, metavar="NAME,...",
@@ -293,6 +299,16 @@ def main(argv=None) -> int:
                             ("--no-amodal-boxes", "whole-body boxes (as written)"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the amodal refiner",
                   file=sys.stderr)
+        for seed, index, genre, n, frame_index, name in UNPOSED if args.only in (None, "unposed") else ():
+            gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
+            tracked = [track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3,
+                                   overlay=False, write=False, zoom_unposed=zoom).boxes[:, np.argsort(order)]
+                       for zoom in (False, True)]
+            path = args.out / name
+            _write_two_runs(path, video, detector, frame_index, gt, tracked,
+                            ("no zoom for dancers in view", "pose found zoomed in (as written)"))
+            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the zoom about dancers "
+                  f"in view without a detection", file=sys.stderr)
         for seed, index, genre, n, name in CORRECTION if args.only in (None, "correction") else ():
             frame_index, (t, dancer) = _write_correction(args.out / name, tmp, detector, seed, index, genre, n)
             print(f"wrote {args.out / name}: seed {seed} {genre}, frame {frame_index}, without and with a correction "

@@ -372,6 +372,88 @@ def test_a_dancer_the_whole_frame_misses_is_found_zoomed_in_as_it_comes_out(tmp_
     assert scores[True].idf1 > scores[False].idf1 + 0.15, scores
 
 
+def test_unposed_boxes_are_dancers_in_view_that_no_person_lies_on():
+    """Only dancers seen now (``tracked``), not waiting hidden behind another, with no whole-frame person at IoU 0.3
+    or more on their box, are looked for again zoomed in."""
+    from types import SimpleNamespace
+
+    from hdvr.pose2d.base import PersonPose
+    from hdvr.tracking.pipeline import unposed_boxes
+
+    def dancer(box, status="tracked", hidden_behind=None):
+        return SimpleNamespace(box=box, status=status, hidden_behind=hidden_behind)
+
+    def person(box):
+        return PersonPose(np.zeros((17, 3), np.float32), box, 0.8)
+
+    found = dancer((100.0, 100.0, 40.0, 120.0))
+    missed = dancer((300.0, 100.0, 40.0, 120.0))
+    half_on = dancer((500.0, 100.0, 40.0, 120.0))  # a person on its left half only: IoU 0.33
+    dancers = [found, missed, half_on, dancer((300.0, 100.0, 40.0, 120.0), status="occluded"),
+               dancer((300.0, 100.0, 40.0, 120.0), hidden_behind=0), dancer((0.0, 0.0, 0.0, 0.0), status="out")]
+    people = [person((102.0, 98.0, 40.0, 124.0)), person((490.0, 100.0, 30.0, 120.0))]
+    assert unposed_boxes(dancers, people) == [missed.box]
+    assert unposed_boxes(dancers, people, min_iou=0.5) == [missed.box, half_on.box]
+    assert unposed_boxes(dancers[:3], []) == [found.box, missed.box, half_on.box]
+
+
+def test_a_dancer_in_view_the_whole_frame_misses_gets_its_pose_from_a_crop(tmp_path):
+    """A dancer in plain view that the detector never finds in the whole frame (as YOLO misses a dancer kicking a
+    leg high) is looked for again on a crop about its box on each detector frame, and gets the pose found there;
+    the tracker's box does not move for it. With ``zoom_unposed=False`` it gets no pose."""
+    from hdvr.pose2d.base import PersonPose
+    from hdvr.tracking.pipeline import UNPOSED_ZOOM_SIDE, track_video
+
+    path = tmp_path / "apart.mp4"
+    specs = [FigureSpec((150.0, 240.0), (1.0, 0.0), 160.0, ((40, 40, 210), (40, 200, 230)), depth=0.0),
+             FigureSpec((470.0, 240.0), (-1.0, 0.0), 160.0, ((200, 60, 40), (230, 200, 40)), depth=1.0)]
+    truth = render_clip(path, frames=30, size=(640, 480), specs=specs)
+
+    class MissesTheSecond:
+        """The first figure's true box in the whole frame; in a crop, the second figure by its clothes' colours: the
+        box of the pixels near them, with its keypoints at that box's centre (in crop pixels, as a detector gives)."""
+        name = "fake"
+
+        def __init__(self):
+            self.crops = []
+
+        @staticmethod
+        def _pose(box):
+            kp = np.zeros((17, 3), np.float32)
+            kp[:, 0], kp[:, 1], kp[:, 2] = box[0] + box[2] / 2, box[1] + box[3] / 2, 0.9
+            return PersonPose(kp, tuple(float(v) for v in box), 0.9)
+
+        def detect(self, frame_bgr, t):
+            if frame_bgr.shape[:2] == (480, 640):
+                return [self._pose(truth.boxes[t][0])]
+            self.crops.append(frame_bgr.shape[:2])
+            near = np.zeros(frame_bgr.shape[:2], bool)
+            for colour in specs[1].colours:
+                near |= (np.abs(frame_bgr.astype(int) - np.array(colour)) < 40).all(axis=2)
+            ys, xs = np.nonzero(near)
+            if near.sum() < 300:
+                return []
+            return [self._pose((xs.min(), ys.min(), xs.max() - xs.min() + 1, ys.max() - ys.min() + 1))]
+
+    posed, crops, boxes = {}, {}, {}
+    for zoom in (True, False):
+        detector = MissesTheSecond()
+        run = track_video(path, tmp_path / f"out{zoom}", detector=detector, boxes=truth.boxes[0], overlay=False,
+                          write=False, detect_every=3, zoom_unposed=zoom, hindsight=False)
+        posed[zoom] = (run.keypoints[::3, 1, :, 2] > 0).any(axis=1)
+        crops[zoom], boxes[zoom] = detector.crops, run.boxes
+        if zoom:
+            keypoints = run.keypoints
+    assert crops[False] == [] and len(crops[True]) == 10  # one crop per detector frame, about the second only
+    heights = truth.boxes[::3, 1, 3]
+    assert all(max(shape) <= UNPOSED_ZOOM_SIDE * heights.max() + 2 for shape in crops[True])  # square, 2 x its box
+    assert posed[True].all() and not posed[False].any()
+    np.testing.assert_allclose(boxes[True], boxes[False])  # the tracked boxes are the same
+    # the pose found in the crop comes back in frame pixels, on the second figure
+    centre = truth.boxes[::3, 1, :2] + truth.boxes[::3, 1, 2:] / 2
+    np.testing.assert_allclose(keypoints[::3, 1, 0, :2], centre, atol=0.1 * heights.max())
+
+
 def test_weak_finds_start_no_dancer_but_give_a_followed_one_its_pose(clip, tmp_path, capsys):
     """A person the detector is unsure of (``PersonPose.weak``) is not counted when looking for the dancers to
     follow; a dancer followed gets that person's pose all the same."""

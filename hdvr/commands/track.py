@@ -35,8 +35,9 @@ def register(subparsers) -> None:
                         "(finds more partly hidden dancers, doubles the detector's time; see docs/tracking.md)")
     p.add_argument("--threads", type=int, default=None, help="detector threads (default: CPU count, at most 4)")
     p.add_argument("--no-zoom", action="store_true",
-                   help="do not run the detector again on a crop about a dancer that waits hidden behind another "
-                        "(faster on such clips; see docs/tracking.md)")
+                   help="do not run the detector again on a crop about a dancer that waits hidden behind another, "
+                        "nor about a dancer in view that the whole frame's detection missed (faster; see "
+                        "docs/tracking.md)")
     p.add_argument("--no-hindsight", action="store_true",
                    help="write the online tracker's boxes: no filling of the stretches in which a dancer was "
                         "hidden between where it was seen before and after (nor holding where it was last seen when "
@@ -139,6 +140,7 @@ def run(args: argparse.Namespace) -> int:
     detector = make_detector(args)
     result = track_video(args.video, args.out, detector=detector, detect_every=args.detect_every,
                          overlay=not args.no_overlay, max_frames=args.max_frames, zoom_hidden=not args.no_zoom,
+                         zoom_unposed=not args.no_zoom,
                          hindsight=not args.no_hindsight, amodal_boxes=not args.no_amodal_boxes,
                          amodal_weights=args.amodal_weights, timeline=not args.no_timeline,
                          detections_cache=None if args.no_detection_cache else Path(args.out) / "detections.npz",

@@ -299,11 +299,26 @@ def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int,
     return found
 
 
+#: side of the square crop (x the box height) about a dancer seen that no whole-frame person lies on, in which the
+#: detector looks for its pose again (:func:`unposed_boxes`; session 53: 1.5, 2.0 and 2.5 measured, docs/benchmarks.md)
+UNPOSED_ZOOM_SIDE = 2.0
+
+
+def unposed_boxes(dancers, people, min_iou: float = 0.3) -> list[tuple[float, float, float, float]]:
+    """Tracked boxes (x, y, w, h px) of the ``dancers`` (:class:`hdvr.tracking.state.DancerTrack`) seen now (status
+    ``tracked``, not waiting hidden behind another) on which no person of ``people`` (:class:`PersonPose`, whole-frame
+    detections) lies at IoU ``min_iou`` or more: dancers in plain view that the detector missed in the whole frame
+    (an unusual pose, such as a leg kicked high, or a small dancer), whose pose a crop about them may still give."""
+    return [tuple(float(v) for v in d.box) for d in dancers
+            if d.status == TRACKED and d.hidden_behind is None
+            and not any(box_iou(d.box, p.box) >= min_iou for p in people)]
+
+
 def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: PoseDetector | None = None,
                 boxes=None, num_dancers: int | None = None, detect_every: int = 1, overlay: bool = True,
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
-                zoom_hidden: bool = True, hindsight: bool = True, amodal_boxes: bool = True,
+                zoom_hidden: bool = True, zoom_unposed: bool = True, hindsight: bool = True, amodal_boxes: bool = True,
                 amodal_weights: str | os.PathLike | None = None,
                 corrections: list[BoxCorrection] | None = None,
                 swaps: list[IdentitySwap] | None = None, timeline: bool = True,
@@ -316,7 +331,10 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     the detector on every k-th frame only (keypoints in between are interpolated). ``detector`` None: boxes only,
     no keypoints. ``zoom_hidden``: on detector frames, while a dancer that started hidden behind another waits to
     come out, the detector also runs on a crop about its box (:func:`zoom_detections`; not for detectors with
-    ``supports_crops`` False, such as precomputed OpenPose output). ``hindsight``: once all frames are tracked,
+    ``supports_crops`` False, such as precomputed OpenPose output). ``zoom_unposed``: on detector frames, a dancer
+    seen that no whole-frame person lies on (:func:`unposed_boxes`) is looked for again on a crop about its box
+    (``UNPOSED_ZOOM_SIDE`` x its height), and what is found there is offered to Algorithm 2* with the frame's people
+    (its pose only: the tracker does not adapt its box to these finds). ``hindsight``: once all frames are tracked,
     fill the boxes of each stretch in which a dancer was occluded between where it was seen before and after
     (:func:`hdvr.tracking.hindsight.fill_occluded`; a stretch not seen after it holds the box where the dancer was
     last seen, :func:`hdvr.tracking.hindsight.hold_last_seen`), widen each box to enclose its dancer's keypoints
@@ -461,15 +479,24 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 not_rivals[:k, :k] = tracker.not_pose_rivals()
                 yields = np.zeros((n, n), bool)
                 yields[:k, :k] = tracker.pose_yields()
-                chosen = selector.select(frame, _pad(tracker.result(widen_hidden=False), n).boxes, people + weak,
-                                         not_rivals, yields)
+                unposed = unposed_boxes(tracker.dancers, people + weak) \
+                    if zoom_unposed and getattr(detector, "supports_crops", True) else []
+                # a dancer seen that no whole-frame person lies on is looked for again, zoomed in, for its pose only
+                # (the tracker does not adapt to these finds)
+                zoom_tic = time.perf_counter()  # the detector's time, counted as such
+                zoomed = zoom_detections(detector, frame, t, unposed, people + weak, side=UNPOSED_ZOOM_SIDE) \
+                    if unposed else []
+                zoom_seconds = time.perf_counter() - zoom_tic
+                stage["detect"] += zoom_seconds
+                chosen = selector.select(frame, _pad(tracker.result(widen_hidden=False), n).boxes,
+                                         people + weak + zoomed, not_rivals, yields)
                 for i, pose in enumerate(chosen):
                     if pose is not None:
                         kp[i] = pose.body25()
                 if tracker is not None:  # reported boxes reach as far as the poses clearly chosen for them
                     k = len(tracker.dancers)
                     result = _pad(tracker.extend_to_poses(frame, chosen[:k], selector.margins[:k]), n)
-                stage["select"] += time.perf_counter() - tic
+                stage["select"] += time.perf_counter() - tic - zoom_seconds
             status = _reported_status(result, tracker)
             all_boxes.append(result.boxes[order])  # rows by written id
             all_status.append(tuple(status[k] for k in order))
