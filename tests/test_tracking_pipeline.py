@@ -372,13 +372,13 @@ def test_a_dancer_the_whole_frame_misses_is_found_zoomed_in_as_it_comes_out(tmp_
     assert scores[True].idf1 > scores[False].idf1 + 0.15, scores
 
 
-def test_unposed_boxes_are_dancers_in_view_that_no_person_lies_on():
+def test_unposed_dancers_are_dancers_in_view_that_no_person_lies_on():
     """Only dancers seen now (``tracked``), not waiting hidden behind another, with no whole-frame person at IoU 0.3
     or more on their box, are looked for again zoomed in."""
     from types import SimpleNamespace
 
     from hdvr.pose2d.base import PersonPose
-    from hdvr.tracking.pipeline import unposed_boxes
+    from hdvr.tracking.pipeline import unposed_dancers
 
     def dancer(box, status="tracked", hidden_behind=None):
         return SimpleNamespace(box=box, status=status, hidden_behind=hidden_behind)
@@ -392,17 +392,18 @@ def test_unposed_boxes_are_dancers_in_view_that_no_person_lies_on():
     dancers = [found, missed, half_on, dancer((300.0, 100.0, 40.0, 120.0), status="occluded"),
                dancer((300.0, 100.0, 40.0, 120.0), hidden_behind=0), dancer((0.0, 0.0, 0.0, 0.0), status="out")]
     people = [person((102.0, 98.0, 40.0, 124.0)), person((490.0, 100.0, 30.0, 120.0))]
-    assert unposed_boxes(dancers, people) == [missed.box]
-    assert unposed_boxes(dancers, people, min_iou=0.5) == [missed.box, half_on.box]
-    assert unposed_boxes(dancers[:3], []) == [found.box, missed.box, half_on.box]
+    assert unposed_dancers(dancers, people) == [1]
+    assert unposed_dancers(dancers, people, min_iou=0.5) == [1, 2]
+    assert unposed_dancers(dancers[:3], []) == [0, 1, 2]
 
 
 def test_a_dancer_in_view_the_whole_frame_misses_gets_its_pose_from_a_crop(tmp_path):
     """A dancer in plain view that the detector never finds in the whole frame (as YOLO misses a dancer kicking a
     leg high) is looked for again on a crop about its box on each detector frame, and gets the pose found there;
-    the tracker's box does not move for it. With ``zoom_unposed=False`` it gets no pose."""
+    the tracker's box does not move for it. With ``zoom_unposed=False`` it gets no pose. Where the crop gives it no
+    pose either, it is looked for so again only after ``UNPOSED_RETRY_AFTER`` detector frames."""
     from hdvr.pose2d.base import PersonPose
-    from hdvr.tracking.pipeline import UNPOSED_ZOOM_SIDE, track_video
+    from hdvr.tracking.pipeline import UNPOSED_RETRY_AFTER, UNPOSED_ZOOM_SIDE, track_video
 
     path = tmp_path / "apart.mp4"
     specs = [FigureSpec((150.0, 240.0), (1.0, 0.0), 160.0, ((40, 40, 210), (40, 200, 230)), depth=0.0),
@@ -449,6 +450,19 @@ def test_a_dancer_in_view_the_whole_frame_misses_gets_its_pose_from_a_crop(tmp_p
     assert all(max(shape) <= UNPOSED_ZOOM_SIDE * heights.max() + 2 for shape in crops[True])  # square, 2 x its box
     assert posed[True].all() and not posed[False].any()
     np.testing.assert_allclose(boxes[True], boxes[False])  # the tracked boxes are the same
+    # a figure that no crop finds either is looked for again only after UNPOSED_RETRY_AFTER detector frames: on
+    # detector frames 0 and 15 of 0, 3, ..., 27
+    class Blind(MissesTheSecond):
+        def detect(self, frame_bgr, t):
+            if frame_bgr.shape[:2] == (480, 640):
+                return [self._pose(truth.boxes[t][0])]
+            self.crops.append(t)
+            return []
+
+    blind = Blind()
+    track_video(path, tmp_path / "blind", detector=blind, boxes=truth.boxes[0], overlay=False, write=False,
+                detect_every=3, hindsight=False)
+    assert blind.crops == [0, 3 * (UNPOSED_RETRY_AFTER + 1)]
     # the pose found in the crop comes back in frame pixels, on the second figure
     centre = truth.boxes[::3, 1, :2] + truth.boxes[::3, 1, 2:] / 2
     np.testing.assert_allclose(keypoints[::3, 1, 0, :2], centre, atol=0.1 * heights.max())

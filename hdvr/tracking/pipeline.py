@@ -300,16 +300,20 @@ def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int,
 
 
 #: side of the square crop (x the box height) about a dancer seen that no whole-frame person lies on, in which the
-#: detector looks for its pose again (:func:`unposed_boxes`; session 53: 1.5, 2.0 and 2.5 measured, docs/benchmarks.md)
+#: detector looks for its pose again (:func:`unposed_dancers`; session 53: 1.5, 2.0 and 2.5 measured, docs/benchmarks.md)
 UNPOSED_ZOOM_SIDE = 2.0
+#: detector frames a dancer is not looked for again, zoomed in, after a crop about it gave it no pose (a figure the
+#: detector cannot see at all, such as a stick figure, would otherwise cost a crop on every detector frame)
+UNPOSED_RETRY_AFTER = 4
 
 
-def unposed_boxes(dancers, people, min_iou: float = 0.3) -> list[tuple[float, float, float, float]]:
-    """Tracked boxes (x, y, w, h px) of the ``dancers`` (:class:`hdvr.tracking.state.DancerTrack`) seen now (status
-    ``tracked``, not waiting hidden behind another) on which no person of ``people`` (:class:`PersonPose`, whole-frame
-    detections) lies at IoU ``min_iou`` or more: dancers in plain view that the detector missed in the whole frame
-    (an unusual pose, such as a leg kicked high, or a small dancer), whose pose a crop about them may still give."""
-    return [tuple(float(v) for v in d.box) for d in dancers
+def unposed_dancers(dancers, people, min_iou: float = 0.3) -> list[int]:
+    """Indices of the ``dancers`` (:class:`hdvr.tracking.state.DancerTrack`) seen now (status ``tracked``, not waiting
+    hidden behind another) on whose tracked box (x, y, w, h px) no person of ``people`` (:class:`PersonPose`,
+    whole-frame detections) lies at IoU ``min_iou`` or more: dancers in plain view that the detector missed in the
+    whole frame (an unusual pose, such as a leg kicked high, or a small dancer), whose pose a crop about them may
+    still give."""
+    return [i for i, d in enumerate(dancers)
             if d.status == TRACKED and d.hidden_behind is None
             and not any(box_iou(d.box, p.box) >= min_iou for p in people)]
 
@@ -332,9 +336,10 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     no keypoints. ``zoom_hidden``: on detector frames, while a dancer that started hidden behind another waits to
     come out, the detector also runs on a crop about its box (:func:`zoom_detections`; not for detectors with
     ``supports_crops`` False, such as precomputed OpenPose output). ``zoom_unposed``: on detector frames, a dancer
-    seen that no whole-frame person lies on (:func:`unposed_boxes`) is looked for again on a crop about its box
+    seen that no whole-frame person lies on (:func:`unposed_dancers`) is looked for again on a crop about its box
     (``UNPOSED_ZOOM_SIDE`` x its height), and what is found there is offered to Algorithm 2* with the frame's people
-    (its pose only: the tracker does not adapt its box to these finds). ``hindsight``: once all frames are tracked,
+    (its pose only: the tracker does not adapt its box to these finds); a dancer whose crop gave it no pose is not
+    looked for so again on the next ``UNPOSED_RETRY_AFTER`` detector frames. ``hindsight``: once all frames are tracked,
     fill the boxes of each stretch in which a dancer was occluded between where it was seen before and after
     (:func:`hdvr.tracking.hindsight.fill_occluded`; a stretch not seen after it holds the box where the dancer was
     last seen, :func:`hdvr.tracking.hindsight.hold_last_seen`), widen each box to enclose its dancer's keypoints
@@ -397,6 +402,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     out.mkdir(parents=True, exist_ok=True)
     n = len(boxes)
     selector = PoseSelector(n)
+    zoom_retry: dict[int, int] = {}  # tracker index -> first frame to look for it zoomed in again (zoom_unposed)
     all_boxes, all_status, all_conf, all_kp, detected = [], [], [], [], []
     stage = dict.fromkeys(("decode", "detect", "track", "select", "overlay"), 0.0)
     tracker = None
@@ -479,13 +485,13 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 not_rivals[:k, :k] = tracker.not_pose_rivals()
                 yields = np.zeros((n, n), bool)
                 yields[:k, :k] = tracker.pose_yields()
-                unposed = unposed_boxes(tracker.dancers, people + weak) \
-                    if zoom_unposed and getattr(detector, "supports_crops", True) else []
                 # a dancer seen that no whole-frame person lies on is looked for again, zoomed in, for its pose only
-                # (the tracker does not adapt to these finds)
+                # (the tracker does not adapt to these finds); after a crop that gave it no pose, not for a while
                 zoom_tic = time.perf_counter()  # the detector's time, counted as such
-                zoomed = zoom_detections(detector, frame, t, unposed, people + weak, side=UNPOSED_ZOOM_SIDE) \
-                    if unposed else []
+                unposed = [i for i in unposed_dancers(tracker.dancers, people + weak) if t >= zoom_retry.get(i, 0)] \
+                    if zoom_unposed and getattr(detector, "supports_crops", True) else []
+                zoomed = zoom_detections(detector, frame, t, [tracker.dancers[i].box for i in unposed], people + weak,
+                                         side=UNPOSED_ZOOM_SIDE) if unposed else []
                 zoom_seconds = time.perf_counter() - zoom_tic
                 stage["detect"] += zoom_seconds
                 chosen = selector.select(frame, _pad(tracker.result(widen_hidden=False), n).boxes,
@@ -493,6 +499,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 for i, pose in enumerate(chosen):
                     if pose is not None:
                         kp[i] = pose.body25()
+                for i in unposed:  # tracker index = selector index
+                    if not any(chosen[i] is p for p in zoomed):
+                        zoom_retry[i] = t + (UNPOSED_RETRY_AFTER + 1) * detect_every
                 if tracker is not None:  # reported boxes reach as far as the poses clearly chosen for them
                     k = len(tracker.dancers)
                     result = _pad(tracker.extend_to_poses(frame, chosen[:k], selector.margins[:k]), n)
