@@ -598,8 +598,8 @@ def zoom_section(model, tmp, repeats: int = 3, seconds: float = 4.0) -> list[str
     from hdvr.synth.groundtruth import ClipSpec, make_clip
 
     lines = ["### Zoomed-in search for waiting dancers: cost", "",
-             "`track_video(zoom_hidden=True, zoom_unposed=True)` (default) against both `False` (`hdvr track --no-zoom`) "
-             "on hdvr synth clips "
+             "`track_video(zoom_hidden=True, zoom_unposed=True)` (default) against both `False` "
+             "(`hdvr track --no-zoom`) on hdvr synth clips "
              "where dancers start hidden behind others, 640x480, detector 480 px every 3rd frame, no overlay; "
              f"median of {repeats} runs; IDF1 against the amodal ground truth.", "",
              "| seed | clip | dancers starting hidden | zoom | detect ms/frame | frames/s wall | IDF1 | ID switches |",

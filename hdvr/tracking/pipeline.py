@@ -300,7 +300,7 @@ def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int,
 
 
 #: side of the square crop (x the box height) about a dancer seen that no whole-frame person lies on, in which the
-#: detector looks for its pose again (:func:`unposed_dancers`; session 53: 1.5, 2.0 and 2.5 measured, docs/benchmarks.md)
+#: detector looks for its pose again (:func:`unposed_dancers`; session 53 measured 1.5, 2.0 and 2.5: docs/benchmarks.md)
 UNPOSED_ZOOM_SIDE = 2.0
 #: detector frames a dancer is not looked for again, zoomed in, after a crop about it gave it no pose (a figure the
 #: detector cannot see at all, such as a stick figure, would otherwise cost a crop on every detector frame)
