@@ -402,6 +402,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     out.mkdir(parents=True, exist_ok=True)
     n = len(boxes)
     selector = PoseSelector(n)
+    crops = getattr(detector, "supports_crops", True)  # precomputed poses (OpenPose JSON) cannot look again zoomed in
+    zoom_hidden, zoom_unposed = zoom_hidden and crops, zoom_unposed and crops
     zoom_retry: dict[int, int] = {}  # tracker index -> first frame to look for it zoomed in again (zoom_unposed)
     all_boxes, all_status, all_conf, all_kp, detected = [], [], [], [], []
     stage = dict.fromkeys(("decode", "detect", "track", "select", "overlay"), 0.0)
@@ -423,7 +425,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 people = detector.detect(frame, t)
                 weak = [p for p in people if p.weak]  # only for updating dancers followed (see MultiTrackerConfig)
                 people = [p for p in people if not p.weak]
-                if zoom_hidden and tracker is not None and getattr(detector, "supports_crops", True):
+                if zoom_hidden and tracker is not None:
                     # a dancer that started hidden and still waits to come out is looked for again, zoomed in; a
                     # find with the colours of a dancer already followed is that dancer, not the waiting one
                     waiting = tracker.waiting()
@@ -489,7 +491,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 # (the tracker does not adapt to these finds); after a crop that gave it no pose, not for a while
                 zoom_tic = time.perf_counter()  # the detector's time, counted as such
                 unposed = [i for i in unposed_dancers(tracker.dancers, people + weak) if t >= zoom_retry.get(i, 0)] \
-                    if zoom_unposed and getattr(detector, "supports_crops", True) else []
+                    if zoom_unposed else []
                 zoomed = zoom_detections(detector, frame, t, [tracker.dancers[i].box for i in unposed], people + weak,
                                          side=UNPOSED_ZOOM_SIDE) if unposed else []
                 zoom_seconds = time.perf_counter() - zoom_tic
