@@ -69,6 +69,22 @@ def test_the_caching_detector_answers_whole_frames_it_holds_and_passes_crops_on(
     assert sorted(cached.found) == [5, 6] and sorted(cached.all_found()) == [5, 6]
 
 
+def test_the_caching_detector_gives_the_wrapped_one_at_another_input_size_for_crops():
+    """Crops never come from the file, so ``at_input_size`` hands out the wrapped detector's own resized view
+    (where it has one; else the caching detector itself)."""
+
+    class Resizable(_CountingDetector):
+        def at_input_size(self, size):
+            view = Resizable(self.setting)
+            view.size = size
+            return view
+
+    view = CachingDetector(Resizable(), (640, 480)).at_input_size(320)
+    assert isinstance(view, Resizable) and view.size == 320
+    plain = CachingDetector(_CountingDetector(), (640, 480))
+    assert plain.at_input_size(320) is plain
+
+
 @pytest.fixture(scope="module")
 def clip(tmp_path_factory):
     path = tmp_path_factory.mktemp("cache") / "clip.mp4"

@@ -122,6 +122,26 @@ def test_rtmo_output_decoding(tmp_path):
     assert people[0].score == pytest.approx(0.9)
 
 
+def test_at_input_size_shares_the_model_and_letterboxes_to_the_new_size(pose_model):
+    """``at_input_size`` gives the same session at another input size (the tracking pipeline's crops), leaving the
+    detector itself as it was; its cache key says the new size. A model with a fixed input keeps it."""
+    det = OnnxPoseDetector(pose_model, input_size=480, threads=1)
+    small = det.at_input_size(320)
+    assert small.session is det.session and small.input_size == 320 and det.input_size == 480
+    assert small.cache_key()["input_size"] == 320 and det.cache_key()["input_size"] == 480
+    crop = np.zeros((300, 300, 3), np.uint8)
+    assert small._letterbox(crop, centred=True)[0].shape[:2] == (320, 320)
+    assert det._letterbox(crop, centred=True)[0].shape[:2] == (480, 480)
+    assert det.at_input_size(480) is det
+    with pytest.raises(HDVRError, match="at least 32"):
+        det.at_input_size(16)
+
+
+def test_at_input_size_keeps_a_fixed_input(tmp_path):
+    det = OnnxPoseDetector(_constant_rtmo_model(tmp_path), threads=1)
+    assert det.at_input_size(320) is det
+
+
 def test_flip_test_mirrors_what_the_mirrored_frame_shows_back(tmp_path):
     """With ``flip_test`` the person the model reports on the mirrored input comes back mirrored: its box on the
     other side of the frame, and its left joints where the model put the right ones."""

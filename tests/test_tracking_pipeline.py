@@ -193,6 +193,8 @@ def test_bad_inputs_one_line_errors(clip, tmp_path, capsys):
     assert "outside" in capsys.readouterr().err
     assert main(["track", str(tmp_path / "missing.mp4"), "--out", str(tmp_path / "o"), "--dancers", "1"]) == 2
     assert "not found" in capsys.readouterr().err
+    assert main(["track", str(path), "--out", str(tmp_path / "o"), "--dancers", "1", "--zoom-size", "8"]) == 2
+    assert "--zoom-size must be at least 32 px, got 8" in capsys.readouterr().err
 
 
 def test_truncated_video_keeps_finished_outputs(clip, tmp_path, capsys):
@@ -466,6 +468,45 @@ def test_a_dancer_in_view_the_whole_frame_misses_gets_its_pose_from_a_crop(tmp_p
     # the pose found in the crop comes back in frame pixels, on the second figure
     centre = truth.boxes[::3, 1, :2] + truth.boxes[::3, 1, 2:] / 2
     np.testing.assert_allclose(keypoints[::3, 1, 0, :2], centre, atol=0.1 * heights.max())
+
+
+def test_crops_go_to_the_detector_at_the_zoom_input_size(tmp_path):
+    """The crops about single dancers go to the detector's own view at ``zoom_input_size`` (``at_input_size``,
+    :data:`ZOOM_INPUT_SIZE` by default), whole frames to the detector itself; with ``zoom_input_size=None``, or a
+    detector without ``at_input_size``, crops go to the detector itself."""
+    from hdvr.pose2d.base import PersonPose
+    from hdvr.tracking.pipeline import ZOOM_INPUT_SIZE, track_video
+
+    path = tmp_path / "two.mp4"
+    truth = render_clip(path, frames=12, size=(640, 480), specs=default_crossing_specs(num_figures=2, seed=3))
+
+    class SeesTheFirst:
+        """The first figure's true box on whole frames; nothing on crops. Records who was asked what."""
+        name = "fake"
+
+        def __init__(self, log, size=480):
+            self.log, self.size = log, size
+
+        def at_input_size(self, size):
+            return SeesTheFirst(self.log, size)
+
+        def detect(self, frame_bgr, t):
+            whole = frame_bgr.shape[:2] == (480, 640)
+            self.log.append(("whole" if whole else "crop", self.size))
+            if not whole:
+                return []
+            kp = np.zeros((17, 3), np.float32)
+            box = truth.boxes[t][0]
+            kp[:, :2], kp[:, 2] = (box[0] + box[2] / 2, box[1] + box[3] / 2), 0.9
+            return [PersonPose(kp, tuple(float(v) for v in box), 0.9)]
+
+    for size, expected in ((ZOOM_INPUT_SIZE, ZOOM_INPUT_SIZE), (256, 256), (None, 480)):
+        log = []
+        track_video(path, tmp_path / f"out{size}", detector=SeesTheFirst(log), boxes=truth.boxes[0], overlay=False,
+                    write=False, detect_every=3, hindsight=False, **({} if size == ZOOM_INPUT_SIZE else
+                                                                    {"zoom_input_size": size}))
+        assert ("crop", expected) in log and all(s == expected for kind, s in log if kind == "crop")
+        assert all(s == 480 for kind, s in log if kind == "whole")
 
 
 def test_weak_finds_start_no_dancer_but_give_a_followed_one_its_pose(clip, tmp_path, capsys):

@@ -38,6 +38,9 @@ def register(subparsers) -> None:
                    help="do not run the detector again on a crop about a dancer that waits hidden behind another, "
                         "nor about a dancer in view that the whole frame's detection missed (faster; see "
                         "docs/tracking.md)")
+    p.add_argument("--zoom-size", type=int, default=None, metavar="PX",
+                   help="ONNX detectors: longer side of the detector input on those crops in pixels (default 320; "
+                        "a crop shows one dancer large already; see docs/tracking.md)")
     p.add_argument("--no-hindsight", action="store_true",
                    help="write the online tracker's boxes: no filling of the stretches in which a dancer was "
                         "hidden between where it was seen before and after (nor holding where it was last seen when "
@@ -134,13 +137,17 @@ def make_detector(args: argparse.Namespace):
 def run(args: argparse.Namespace) -> int:
     from pathlib import Path
 
+    from hdvr.errors import HDVRError
     from hdvr.tracking.pipeline import track_video, tracked_fraction
 
+    if args.zoom_size is not None and args.zoom_size < 32:
+        raise HDVRError(f"--zoom-size must be at least 32 px, got {args.zoom_size}")
     dancers = dancer_arguments(args)
     detector = make_detector(args)
+    zoom_size = {} if args.zoom_size is None else {"zoom_input_size": args.zoom_size}
     result = track_video(args.video, args.out, detector=detector, detect_every=args.detect_every,
                          overlay=not args.no_overlay, max_frames=args.max_frames, zoom_hidden=not args.no_zoom,
-                         zoom_unposed=not args.no_zoom,
+                         zoom_unposed=not args.no_zoom, **zoom_size,
                          hindsight=not args.no_hindsight, amodal_boxes=not args.no_amodal_boxes,
                          amodal_weights=args.amodal_weights, timeline=not args.no_timeline,
                          detections_cache=None if args.no_detection_cache else Path(args.out) / "detections.npz",

@@ -38,7 +38,9 @@ class PersonPose:
 class PoseDetector(Protocol):
     """Anything that finds people and their 2D keypoints in a BGR frame. A detector may set ``supports_crops =
     False`` when it cannot look at a crop of a frame (precomputed output); the tracking pipeline then does not ask
-    it to (:func:`hdvr.tracking.pipeline.zoom_detections`)."""
+    it to (:func:`hdvr.tracking.pipeline.zoom_detections`); one that can run at another input size may have
+    ``at_input_size(px)``, returning itself at that size, which the pipeline uses on those crops
+    (:data:`hdvr.tracking.pipeline.ZOOM_INPUT_SIZE`)."""
 
     name: str
 

@@ -112,6 +112,12 @@ class CachingDetector:
             self.found[frame_index] = people
         return people
 
+    def at_input_size(self, input_size: int):
+        """The wrapped detector at another input size, for crops (which never come from the file), where it has
+        one (:meth:`hdvr.pose2d.onnx_pose.OnnxPoseDetector.at_input_size`); else this one."""
+        resize = getattr(self.detector, "at_input_size", None)
+        return resize(input_size) if resize is not None else self
+
     def all_found(self) -> dict[int, list[PersonPose]]:
         """What the file held and what this run found (this run's answer where both have a frame)."""
         return {**self.stored, **self.found}

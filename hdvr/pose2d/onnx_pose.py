@@ -11,7 +11,8 @@ Formats, recognised from the model's outputs:
 
 ``input_size`` is the longer side of the network input in pixels (the frame is scaled to fit and padded to a
 multiple of 32, so a 16:9 frame at 320 runs at 320x192); smaller is faster and finds fewer small people.
-Models with a fixed input size use theirs.
+Models with a fixed input size use theirs. :meth:`OnnxPoseDetector.at_input_size` gives the same model at another
+input size, sharing its session (the tracking pipeline runs it smaller on crops about single dancers).
 
 ``flip_test`` (off by default): the model also runs on the mirror image of the frame, and the people it finds there
 (mirrored back, left and right keypoints exchanged) join those of the frame itself before one non-maximum
@@ -23,6 +24,7 @@ both views; of those showing 40-90 % of them 50 % and 59 % (docs/benchmarks.md).
 
 from __future__ import annotations
 
+import copy
 import os
 from pathlib import Path
 
@@ -82,6 +84,18 @@ class OnnxPoseDetector:
         self.nms_iou = nms_iou
         self.flip_test = bool(flip_test)
         self.model_path = path
+
+    def at_input_size(self, input_size: int) -> "OnnxPoseDetector":
+        """This detector at another network input size (the longer side, px), sharing its model session: the
+        tracking pipeline looks at crops about single dancers with a smaller input than whole frames
+        (:data:`hdvr.tracking.pipeline.ZOOM_INPUT_SIZE`). A model exported with a fixed input size keeps it."""
+        if self.fixed_size or int(input_size) == self.input_size:
+            return self
+        if int(input_size) < 32:
+            raise HDVRError(f"pose model input size must be at least 32 px, got {input_size}")
+        view = copy.copy(self)
+        view.input_size = int(input_size)
+        return view
 
     def cache_key(self) -> dict:
         """The model file and every setting that changes the people found (:mod:`hdvr.pose2d.cache`)."""

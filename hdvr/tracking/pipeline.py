@@ -266,7 +266,8 @@ def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int,
                     clear_of=(), side: float = 2.5, core_aspect: float = 0.3, overlap: float = 0.05) -> list:
     """People found by running ``detector`` again on square crops of ``frame`` about ``boxes`` ((x, y, w, h) px;
     side ``side`` x the box height, clipped to the frame), in frame pixels. The detector sees each crop at its
-    full input size, so a small dancer beside another, which it misses in the whole frame, is larger there
+    input size (``track_video`` gives it :data:`ZOOM_INPUT_SIZE`), so a small dancer beside another, which it misses
+    in the whole frame, is larger there
     (hdvr synth seed 308 ballet: a dancer 75 px tall that walked out from behind another, missed in the whole
     frame at 480 and 640 px input, found in the crop with score 0.78). Left out: a person that one of ``people``
     or one found before already covers (IoU > 0.5), one cut by a side of the crop that is not the frame's (a part
@@ -305,6 +306,12 @@ UNPOSED_ZOOM_SIDE = 2.0
 #: detector frames a dancer is not looked for again, zoomed in, after a crop about it gave it no pose (a figure the
 #: detector cannot see at all, such as a stick figure, would otherwise cost a crop on every detector frame)
 UNPOSED_RETRY_AFTER = 4
+#: network input size (longer side, px) of the detector on the crops about single dancers (:func:`zoom_detections`),
+#: where the detector allows it (``at_input_size``). A crop 2 x a dancer's height shows it 160 px tall at 320 px,
+#: larger than the whole frame at 480 px shows any dancer under 210 px; at 320 a crop costs 0.44 of one at 480
+#: (session 54, 120 hdvr synth clips: 7 failing with either; speed benchmark 16.3 -> 18.6 frames/s:
+#: docs/benchmarks.md)
+ZOOM_INPUT_SIZE = 320
 
 
 def unposed_dancers(dancers, people, min_iou: float = 0.3) -> list[int]:
@@ -322,7 +329,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 boxes=None, num_dancers: int | None = None, detect_every: int = 1, overlay: bool = True,
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
-                zoom_hidden: bool = True, zoom_unposed: bool = True, hindsight: bool = True, amodal_boxes: bool = True,
+                zoom_hidden: bool = True, zoom_unposed: bool = True,
+                zoom_input_size: int | None = ZOOM_INPUT_SIZE,
+                hindsight: bool = True, amodal_boxes: bool = True,
                 amodal_weights: str | os.PathLike | None = None,
                 corrections: list[BoxCorrection] | None = None,
                 swaps: list[IdentitySwap] | None = None, timeline: bool = True,
@@ -339,12 +348,13 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     seen that no whole-frame person lies on (:func:`unposed_dancers`) is looked for again on a crop about its box
     (``UNPOSED_ZOOM_SIDE`` x its height), and what is found there is offered to Algorithm 2* with the frame's people
     (its pose only: the tracker does not adapt its box to these finds); a dancer whose crop gave it no pose is not
-    looked for so again on the next ``UNPOSED_RETRY_AFTER`` detector frames. ``hindsight``: once all frames are tracked,
-    fill the boxes of each stretch in which a dancer was occluded between where it was seen before and after
-    (:func:`hdvr.tracking.hindsight.fill_occluded`; a stretch not seen after it holds the box where the dancer was
-    last seen, :func:`hdvr.tracking.hindsight.hold_last_seen`), widen each box to enclose its dancer's keypoints
-    (:func:`hdvr.tracking.hindsight.enclose_keypoints`), lower the top of a box that reaches far above a full pose
-    (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
+    looked for so again on the next ``UNPOSED_RETRY_AFTER`` detector frames. ``zoom_input_size``: the detector's
+    input size (px) on those crops, where it can change it (``at_input_size``; None: its own). ``hindsight``: once
+    all frames are tracked, fill the boxes of each stretch in which a dancer was occluded between where it was seen
+    before and after (:func:`hdvr.tracking.hindsight.fill_occluded`; a stretch not seen after it holds the box
+    where the dancer was last seen, :func:`hdvr.tracking.hindsight.hold_last_seen`), widen each box to enclose its
+    dancer's keypoints (:func:`hdvr.tracking.hindsight.enclose_keypoints`), lower the top of a box that reaches far
+    above a full pose (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
     (:func:`hdvr.tracking.hindsight.smooth_boxes`), all in :func:`hdvr.tracking.hindsight.apply_hindsight`; off, the
     boxes are those of the online tracker. ``amodal_boxes`` (with ``hindsight``): last, move each seen dancer's box
     to the whole body that the learned refiner predicts (:func:`hdvr.tracking.amodal.refine_boxes`), with the
@@ -404,6 +414,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     selector = PoseSelector(n)
     crops = getattr(detector, "supports_crops", True)  # precomputed poses (OpenPose JSON) cannot look again zoomed in
     zoom_hidden, zoom_unposed = zoom_hidden and crops, zoom_unposed and crops
+    crop_detector = detector  # the detector on crops about single dancers: smaller input where it allows
+    if crops and zoom_input_size and hasattr(detector, "at_input_size"):
+        crop_detector = detector.at_input_size(zoom_input_size)
     zoom_retry: dict[int, int] = {}  # tracker index -> first frame to look for it zoomed in again (zoom_unposed)
     all_boxes, all_status, all_conf, all_kp, detected = [], [], [], [], []
     stage = dict.fromkeys(("decode", "detect", "track", "select", "overlay"), 0.0)
@@ -432,7 +445,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                     if waiting:
                         others = [d.box for d in tracker.dancers if d.hidden_behind is None and d.status != OUT]
                         finds = zoom_detections(
-                            detector, frame, t, [d.box for d in waiting], people, clear_of=others,
+                            crop_detector, frame, t, [d.box for d in waiting], people, clear_of=others,
                             core_aspect=tracker.config.core_aspect, overlap=tracker.config.overlap_threshold)
                         people = people + [p for p in finds if not tracker.looks_like_a_followed_dancer(frame, p.box)]
                 stage["detect"] += time.perf_counter() - tic
@@ -492,8 +505,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 zoom_tic = time.perf_counter()  # the detector's time, counted as such
                 unposed = [i for i in unposed_dancers(tracker.dancers, people + weak) if t >= zoom_retry.get(i, 0)] \
                     if zoom_unposed else []
-                zoomed = zoom_detections(detector, frame, t, [tracker.dancers[i].box for i in unposed], people + weak,
-                                         side=UNPOSED_ZOOM_SIDE) if unposed else []
+                zoomed = zoom_detections(crop_detector, frame, t, [tracker.dancers[i].box for i in unposed],
+                                         people + weak, side=UNPOSED_ZOOM_SIDE) if unposed else []
                 zoom_seconds = time.perf_counter() - zoom_tic
                 stage["detect"] += zoom_seconds
                 chosen = selector.select(frame, _pad(tracker.result(widen_hidden=False), n).boxes,
