@@ -1720,3 +1720,20 @@ def test_an_occluded_dancer_is_not_taken_where_its_own_tracker_drifted_off_the_f
     assert not taken(70.0, 0.15)
     assert taken(10.0, 0.15)
     assert MultiTrackerConfig().own_box_max_shift == 0.15
+
+
+def test_the_dancers_memories_are_histograms_of_their_boxes_shrunk_as_configured():
+    """``histogram_side_shrink`` sets how much of a box's width, on each side, the dancers' colour histograms leave
+    out (``HISTOGRAM_END_SHRINK`` at the top and at the bottom): the stored memory and the candidates' histograms."""
+    from hdvr.tracking.multi import HISTOGRAM_END_SHRINK
+
+    frame = np.zeros((240, 320, 3), np.uint8)
+    frame[:] = (200, 60, 20)
+    frame[40:200, 140:180] = (30, 40, 200)
+    box = (120.0, 40.0, 80.0, 160.0)
+    for side in (0.15, 0.25):
+        tracker = MultiDancerTracker(frame, [box], MultiTrackerConfig(histogram_side_shrink=side))
+        np.testing.assert_allclose(tracker.dancers[0].stored_histogram,
+                                   colour_histogram(frame, box, (side, HISTOGRAM_END_SHRINK)))
+    assert tracker.looks_like_a_followed_dancer(frame, (130.0, 40.0, 60.0, 160.0))
+

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from hdvr.tracking.appearance import colour_histogram
+from hdvr.tracking.appearance import colour_histogram, histogram_similarity
 from hdvr.tracking.state import TRACKED, DancerTrack, box_at, box_centre, stands_in_front
 
 
@@ -39,6 +39,22 @@ def test_memory_match_compares_a_box_s_colours_with_the_stored_histogram():
     d.stored_histogram = colour_histogram(frame, d.box)
     assert d.memory_match(frame) > 0.99  # its own box, the colours it stored
     assert d.memory_match(frame, (120.0, 10.0, 60.0, 80.0)) < 0.1  # another box: other colours
+
+
+def test_a_histogram_shrunk_more_at_the_sides_leaves_out_what_stands_beside_the_body():
+    """``shrink`` as a pair leaves out (left and right, top and bottom) of the box: a box whose outer quarters
+    show the wall matches a body-only memory with the sides shrunk by 0.25, not with 0.15."""
+    frame = np.zeros((100, 200, 3), np.uint8)
+    frame[:] = (200, 60, 20)  # blue wall (BGR)
+    frame[:, 75:125] = (30, 40, 200)  # a red body in the middle half of the box below
+    box = (50.0, 10.0, 100.0, 80.0)
+    body = colour_histogram(frame, (80.0, 10.0, 40.0, 80.0), shrink=0.0)
+    assert histogram_similarity(colour_histogram(frame, box, shrink=(0.25, 0.15)), body) > 0.99
+    assert histogram_similarity(colour_histogram(frame, box), body) < 0.95  # 30 % of it is wall
+    np.testing.assert_allclose(colour_histogram(frame, box, shrink=(0.15, 0.15)), colour_histogram(frame, box))
+    d = DancerTrack(0, None, box)
+    d.stored_histogram = body
+    assert d.memory_match(frame, shrink=(0.25, 0.15)) > 0.99 > d.memory_match(frame)
 
 
 def test_a_box_stands_in_front_when_its_bottom_is_lower_by_the_margin_of_the_other_s_height():

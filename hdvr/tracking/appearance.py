@@ -26,12 +26,15 @@ def clip_box(box, size) -> tuple[int, int, int, int] | None:
     return x0, y0, x1, y1
 
 
-def colour_histogram(frame_bgr: np.ndarray, box, shrink: float = 0.15, mask: np.ndarray | None = None):
+def colour_histogram(frame_bgr: np.ndarray, box, shrink: float | tuple[float, float] = 0.15,
+                     mask: np.ndarray | None = None):
     """Histogram of ``box`` = (x, y, w, h) px in ``frame_bgr``, after shrinking the box by ``shrink`` of its
-    size on each side (less background). ``mask`` (same size as the frame, uint8) restricts it further.
-    Returns a float32 vector, or None if the box is outside the frame or has no pixels."""
+    size on each side (less background); a pair is (left and right, top and bottom). ``mask`` (same size as the
+    frame, uint8) restricts it further. Returns a float32 vector, or None if the box is outside the frame or has no
+    pixels."""
     x, y, w, h = box
-    inner = (x + shrink * w, y + shrink * h, w * (1 - 2 * shrink), h * (1 - 2 * shrink))
+    sx, sy = (shrink, shrink) if np.isscalar(shrink) else shrink
+    inner = (x + sx * w, y + sy * h, w * (1 - 2 * sx), h * (1 - 2 * sy))
     r = clip_box(inner, (frame_bgr.shape[1], frame_bgr.shape[0]))
     if r is None:
         return None

@@ -62,6 +62,8 @@ from hdvr.tracking.ldes import LDESConfig, LDESTracker
 from hdvr.tracking.state import (OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, body_core, box_at, box_centre,
                                  stands_in_front)
 
+#: fraction of a dancer's box height left out at its top and at its bottom in the dancers' colour histograms
+HISTOGRAM_END_SHRINK = 0.15
 
 
 @dataclass(frozen=True)
@@ -80,6 +82,10 @@ class MultiTrackerConfig:
     max_speed: float = 0.06  # x box height per frame: the stored velocity is capped there (a dancer crossing the
     # frame runs at about 0.03)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
+    histogram_side_shrink: float = 0.15  # the colour histograms of dancers' boxes (memories and candidates) leave
+    # out this fraction of the box's width on the left and on the right (and ``HISTOGRAM_END_SHRINK`` of its height
+    # at the top and at the bottom). 0.25, the middle half, where the body is, measured in session 54 on three sets
+    # of 120 hdvr synth clips: docs/benchmarks.md; it fails two procedural tests of tests/test_tracking_multi.py
     failure_angle_deg: float = 60.0  # turn of the motion direction that counts as a tracking failure
     min_speed: float = 0.7  # px/frame: below this the direction is not trusted (histogram test only)
     failure_histogram: float = 0.5  # similarity to the stored histogram below this = failure while overlapped
@@ -500,7 +506,7 @@ class MultiDancerTracker(ReportedExtent):
         tracker = LDESTracker(frame, self._core(b), self.config.ldes)
         d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index,
                         start_frame=self.frame_index)
-        d.stored_histogram = colour_histogram(frame, b)
+        d.stored_histogram = self._histogram(frame, b)
         partners = [o for o in self.dancers if o.status != OUT
                     and self._bodies_overlap(b, o.box) > self.config.overlap_threshold]
         d.start_partners = frozenset(o.dancer_id for o in partners)
@@ -659,13 +665,23 @@ class MultiDancerTracker(ReportedExtent):
         (``hidden_behind``)."""
         return [d for d in self.dancers if d.hidden_behind is not None and d.status != OUT]
 
+    @property
+    def _histogram_shrink(self) -> tuple[float, float]:
+        """(left and right, top and bottom) fractions of a box left out of the colour histograms of dancers."""
+        return self.config.histogram_side_shrink, HISTOGRAM_END_SHRINK
+
+    def _histogram(self, frame, box):
+        """Colour histogram of ``box`` (x, y, w, h px) as the dancers' memories are made
+        (:func:`hdvr.tracking.appearance.colour_histogram` with :attr:`_histogram_shrink`)."""
+        return colour_histogram(frame, box, self._histogram_shrink)
+
     def looks_like_a_followed_dancer(self, frame, box) -> bool:
         """Whether the colours in ``box`` ((x, y, w, h) px) match at least ``reid_similarity`` the memory of a
         dancer in the frame that shows its own colours (one not waiting behind another: a waiting dancer's memory
         shows the dancer in front). A person found by zooming in about a waiting dancer that does is most likely
         that dancer, whose box has slipped off it, not the waiting one coming out (hdvr synth: 0.69-0.92 on three
         such finds in seeds 7, 11 and 97, 0.23-0.34 on the two that were the waiting dancer)."""
-        hist = colour_histogram(frame, box)
+        hist = self._histogram(frame, box)
         return hist is not None and any(
             histogram_similarity(hist, d.stored_histogram) >= self.config.reid_similarity
             for d in self.dancers if d.hidden_behind is None and d.status != OUT and d.stored_histogram is not None)
@@ -852,7 +868,7 @@ class MultiDancerTracker(ReportedExtent):
                 if d.clear_track[-1][0] - d.clear_track[0][0] >= c.min_velocity_span:
                     d.velocity_measured = True
                     d.stored_velocity = self._fit_velocity(d.clear_track, c.max_speed * d.box[3])
-                hist = colour_histogram(frame, d.box) if d.missed == 0 else None
+                hist = self._histogram(frame, d.box) if d.missed == 0 else None
                 if hist is not None:
                     d.stored_histogram = hist if d.stored_histogram is None else \
                         (1 - c.histogram_smoothing) * d.stored_histogram + c.histogram_smoothing * hist
@@ -946,7 +962,7 @@ class MultiDancerTracker(ReportedExtent):
             return True
         if self._inside_fraction(self._predicted_box(d, t)) >= c.out_fraction:
             return False
-        return d.memory_match(frame) < c.failure_histogram
+        return d.memory_match(frame, shrink=self._histogram_shrink) < c.failure_histogram
 
     def _set_out(self, d: DancerTrack, side: str | None = None) -> None:
         """Dancer ``d`` has left the frame: no box until it is re-identified (:meth:`_reenter`,
@@ -1007,7 +1023,7 @@ class MultiDancerTracker(ReportedExtent):
         candidates = []
         for d in out:
             strip = self._edge_strip(d)
-            score = d.memory_match(frame, strip)
+            score = d.memory_match(frame, strip, shrink=self._histogram_shrink)
             empty = d.edge_empty_score
             d.edge_empty_score = min(empty, score)
             if score >= empty + c.reid_margin and all(box_overlap(strip, self._core(o)) <= c.overlap_threshold
@@ -1064,7 +1080,7 @@ class MultiDancerTracker(ReportedExtent):
             for box in boxes:
                 key = tuple(float(v) for v in box)
                 if key not in histograms:
-                    histograms[key] = colour_histogram(frame, box)
+                    histograms[key] = self._histogram(frame, box)
                 hist = histograms[key]
                 score = histogram_similarity(hist, d.stored_histogram)
                 if score >= c.reid_similarity:
@@ -1097,7 +1113,7 @@ class MultiDancerTracker(ReportedExtent):
         person that looks like another dancer is that dancer, lost too, not this one). Returns whether it moved."""
         c = self.config
         long_lost = d.missed >= c.long_lost_detections
-        current = d.memory_match(frame)
+        current = d.memory_match(frame, shrink=self._histogram_shrink)
         others = [o for o in self.dancers if o is not d]
         # dancers the person must match worse (by reid_margin) than this one: when long lost, those not held by a
         # detection of their own; with jump_rivals, every one showing its own colours
@@ -1111,7 +1127,7 @@ class MultiDancerTracker(ReportedExtent):
             off = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2]) - d.center
             if np.linalg.norm(off) > c.lost_search_heights * d.box[3]:
                 continue
-            hist = colour_histogram(frame, det)
+            hist = self._histogram(frame, det)
             score = histogram_similarity(hist, d.stored_histogram)
             if any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin for o in rivals):
                 continue
@@ -1536,7 +1552,7 @@ class MultiDancerTracker(ReportedExtent):
 
     def _failed(self, d: DancerTrack, frame, overlapping: list[int], boxes) -> bool:
         c = self.config
-        similarity = d.memory_match(frame)
+        similarity = d.memory_match(frame, shrink=self._histogram_shrink)
         stored_speed = float(np.linalg.norm(d.stored_velocity))
         if len(d.centers) > c.motion_window and not self._in_front_of_all(d, overlapping):  # a full window since
             # (re)start, and someone there could have taken its tracker (``front_keeps_motion``)
@@ -1565,7 +1581,7 @@ class MultiDancerTracker(ReportedExtent):
                     continue  # o still waits hidden behind d: d is the dancer seen there (o yields in its own test)
                 if c.waiting_yields and d.hidden_behind == o.dancer_id:
                     return True
-                other_similarity = o.memory_match(frame)
+                other_similarity = o.memory_match(frame, shrink=self._histogram_shrink)
                 if similarity < other_similarity:
                     return True
         return False
@@ -1635,7 +1651,7 @@ class MultiDancerTracker(ReportedExtent):
         for box in candidates:
             if max((box_iou(box, o) for o in others), default=0.0) > 0.5:
                 continue  # that patch is another dancer's
-            score = d.memory_match(frame, box)
+            score = d.memory_match(frame, box, shrink=self._histogram_shrink)
             if score > best_score:
                 best, best_score = box, score
         if best is None or (best_score < c.relocate_min_similarity and not force):
@@ -1735,7 +1751,7 @@ class MultiDancerTracker(ReportedExtent):
             if c.emerge_relative and front.status == TRACKED:
                 key = (front.dancer_id, tuple(front.box))
                 if key not in front_histograms:
-                    front_histograms[key] = colour_histogram(frame, front.box)
+                    front_histograms[key] = self._histogram(frame, front.box)
                 front_hist = front_histograms[key]
                 if front_hist is not None:
                     front_now = histogram_similarity(front_hist, front.stored_histogram)
@@ -1763,7 +1779,7 @@ class MultiDancerTracker(ReportedExtent):
                 if overlapped and not own and (not c.emerge_beside_persist or not half_beside):
                     continue
                 if k not in histograms:
-                    histograms[k] = colour_histogram(frame, det)
+                    histograms[k] = self._histogram(frame, det)
                 hist = histograms[k]
                 if hist is None:
                     continue
@@ -1947,10 +1963,10 @@ class MultiDancerTracker(ReportedExtent):
         # behind (in a group) while the dancer came out elsewhere; rivals: every dancer whose colours are known
         known = [d for d in self.dancers if d.status != OUT and d.hidden_behind is None
                  and d.stored_histogram is not None]
-        histograms = {det: colour_histogram(frame, det) for det in people}  # shared with _histogram_matches
+        histograms = {det: self._histogram(frame, det) for det in people}  # shared with _histogram_matches
         candidates = []
         for d in [o for o in known if o.status == TRACKED]:
-            current = d.memory_match(frame)
+            current = d.memory_match(frame, shrink=self._histogram_shrink)
             candidates.append((d, [det for det in people if self._height_fits(d, det) and histogram_similarity(
                 histograms[det], d.stored_histogram) >= current + c.stray_adrift_margin]))
         for d, box, score in self._histogram_matches(frame, candidates, known, histograms=histograms):
@@ -1985,7 +2001,7 @@ class MultiDancerTracker(ReportedExtent):
             cx, _, cw, _ = self._core(holder.box)
             if min(cx + cw, x + w) - max(cx, x) < c.reid_holder_covered * cw:
                 continue  # the holder shows beside the person: not hidden behind it
-            hist = colour_histogram(frame, dets[k])
+            hist = self._histogram(frame, dets[k])
             if hist is None:
                 continue
             own = histogram_similarity(hist, holder.stored_histogram)

@@ -88,10 +88,11 @@ class DancerTrack:
         x, y, w, h = self.box
         return np.array([x + w / 2, y + h / 2])
 
-    def memory_match(self, frame_bgr: np.ndarray, box=None) -> float:
-        """How well the colours inside ``box`` (x, y, w, h px; default the dancer's own box) of a BGR frame match
-        the dancer's stored histogram: correlation in [-1, 1], -1 where either histogram is missing."""
-        return histogram_similarity(colour_histogram(frame_bgr, self.box if box is None else box),
+    def memory_match(self, frame_bgr: np.ndarray, box=None, shrink: float | tuple[float, float] = 0.15) -> float:
+        """How well the colours inside ``box`` (x, y, w, h px; default the dancer's own box, shrunk by ``shrink`` as
+        :func:`hdvr.tracking.appearance.colour_histogram` does) of a BGR frame match the dancer's stored histogram:
+        correlation in [-1, 1], -1 where either histogram is missing."""
+        return histogram_similarity(colour_histogram(frame_bgr, self.box if box is None else box, shrink),
                                     self.stored_histogram)
 
 
