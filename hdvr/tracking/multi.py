@@ -569,7 +569,7 @@ class MultiDancerTracker(ReportedExtent):
         # colours of the dancers overlapping it left out (a dancer that waits keeps those of its whole box, as at a
         # start: its emergence tests expect the front dancer's)
         mask = self._outside_cores(frame, others) if others and d.hidden_behind is None else None
-        hist = colour_histogram(frame, b, mask=mask)
+        hist = self._histogram(frame, b, mask)
         if hist is not None:
             d.stored_histogram = hist
         # over others the ratio is learned again from a detection while clear (:meth:`_adapt_box`)
@@ -629,7 +629,7 @@ class MultiDancerTracker(ReportedExtent):
 
         if sum(shows_d(det) for det in detections) != 1:
             return
-        hist = colour_histogram(frame, d.box, mask=self._outside_cores(frame, [front]))
+        hist = self._histogram(frame, d.box, self._outside_cores(frame, [front]))
         if hist is not None and histogram_similarity(hist, front.stored_histogram) < c.reid_similarity:
             d.hidden_behind, d.stored_histogram = None, hist
 
@@ -670,10 +670,15 @@ class MultiDancerTracker(ReportedExtent):
         """(left and right, top and bottom) fractions of a box left out of the colour histograms of dancers."""
         return self.config.histogram_side_shrink, HISTOGRAM_END_SHRINK
 
-    def _histogram(self, frame, box):
+    def _histogram(self, frame, box, mask=None):
         """Colour histogram of ``box`` (x, y, w, h px) as the dancers' memories are made
-        (:func:`hdvr.tracking.appearance.colour_histogram` with :attr:`_histogram_shrink`)."""
-        return colour_histogram(frame, box, self._histogram_shrink)
+        (:func:`hdvr.tracking.appearance.colour_histogram` with :attr:`_histogram_shrink`, within ``mask``)."""
+        return colour_histogram(frame, box, self._histogram_shrink, mask)
+
+    def _memory_match(self, d: DancerTrack, frame, box=None) -> float:
+        """:meth:`DancerTrack.memory_match` of dancer ``d`` (on ``box``, default its own), its histogram made as
+        the memories are (:meth:`_histogram`)."""
+        return d.memory_match(frame, box, self._histogram_shrink)
 
     def looks_like_a_followed_dancer(self, frame, box) -> bool:
         """Whether the colours in ``box`` ((x, y, w, h) px) match at least ``reid_similarity`` the memory of a
@@ -962,7 +967,7 @@ class MultiDancerTracker(ReportedExtent):
             return True
         if self._inside_fraction(self._predicted_box(d, t)) >= c.out_fraction:
             return False
-        return d.memory_match(frame, shrink=self._histogram_shrink) < c.failure_histogram
+        return self._memory_match(d, frame) < c.failure_histogram
 
     def _set_out(self, d: DancerTrack, side: str | None = None) -> None:
         """Dancer ``d`` has left the frame: no box until it is re-identified (:meth:`_reenter`,
@@ -1023,7 +1028,7 @@ class MultiDancerTracker(ReportedExtent):
         candidates = []
         for d in out:
             strip = self._edge_strip(d)
-            score = d.memory_match(frame, strip, shrink=self._histogram_shrink)
+            score = self._memory_match(d, frame, strip)
             empty = d.edge_empty_score
             d.edge_empty_score = min(empty, score)
             if score >= empty + c.reid_margin and all(box_overlap(strip, self._core(o)) <= c.overlap_threshold
@@ -1113,7 +1118,7 @@ class MultiDancerTracker(ReportedExtent):
         person that looks like another dancer is that dancer, lost too, not this one). Returns whether it moved."""
         c = self.config
         long_lost = d.missed >= c.long_lost_detections
-        current = d.memory_match(frame, shrink=self._histogram_shrink)
+        current = self._memory_match(d, frame)
         others = [o for o in self.dancers if o is not d]
         # dancers the person must match worse (by reid_margin) than this one: when long lost, those not held by a
         # detection of their own; with jump_rivals, every one showing its own colours
@@ -1552,7 +1557,7 @@ class MultiDancerTracker(ReportedExtent):
 
     def _failed(self, d: DancerTrack, frame, overlapping: list[int], boxes) -> bool:
         c = self.config
-        similarity = d.memory_match(frame, shrink=self._histogram_shrink)
+        similarity = self._memory_match(d, frame)
         stored_speed = float(np.linalg.norm(d.stored_velocity))
         if len(d.centers) > c.motion_window and not self._in_front_of_all(d, overlapping):  # a full window since
             # (re)start, and someone there could have taken its tracker (``front_keeps_motion``)
@@ -1581,7 +1586,7 @@ class MultiDancerTracker(ReportedExtent):
                     continue  # o still waits hidden behind d: d is the dancer seen there (o yields in its own test)
                 if c.waiting_yields and d.hidden_behind == o.dancer_id:
                     return True
-                other_similarity = o.memory_match(frame, shrink=self._histogram_shrink)
+                other_similarity = self._memory_match(o, frame)
                 if similarity < other_similarity:
                     return True
         return False
@@ -1651,7 +1656,7 @@ class MultiDancerTracker(ReportedExtent):
         for box in candidates:
             if max((box_iou(box, o) for o in others), default=0.0) > 0.5:
                 continue  # that patch is another dancer's
-            score = d.memory_match(frame, box, shrink=self._histogram_shrink)
+            score = self._memory_match(d, frame, box)
             if score > best_score:
                 best, best_score = box, score
         if best is None or (best_score < c.relocate_min_similarity and not force):
@@ -1966,7 +1971,7 @@ class MultiDancerTracker(ReportedExtent):
         histograms = {det: self._histogram(frame, det) for det in people}  # shared with _histogram_matches
         candidates = []
         for d in [o for o in known if o.status == TRACKED]:
-            current = d.memory_match(frame, shrink=self._histogram_shrink)
+            current = self._memory_match(d, frame)
             candidates.append((d, [det for det in people if self._height_fits(d, det) and histogram_similarity(
                 histograms[det], d.stored_histogram) >= current + c.stray_adrift_margin]))
         for d, box, score in self._histogram_matches(frame, candidates, known, histograms=histograms):
