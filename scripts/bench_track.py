@@ -552,13 +552,15 @@ def synth_clip_folder(clips_dir: Path, spec, groups: bool = False) -> Path:
 
 
 def track_synth_clip(clip: Path, out: Path, detector, starts, config=None, hindsight: bool = True,
-                     write: bool = False):
+                     write: bool = False, zoom: bool = True):
     """``track_video`` on an hdvr synth clip folder as the synth section runs it: from ``starts``
     (:func:`_starts_from_truth`), the detector on every 3rd frame, no overlay nor timeline; with ``write`` the
-    outputs of ``hdvr track`` go to ``out`` (with a detections cache there, reused by a second run)."""
+    outputs of ``hdvr track`` go to ``out`` (with a detections cache there, reused by a second run). ``zoom=False``:
+    no detector crops about waiting or unposed dancers (``hdvr track --no-zoom``)."""
     return track_video(clip / "video.mp4", out, detector=detector, starts=starts, detect_every=3, overlay=False,
                        write=write, config=config, hindsight=hindsight, timeline=False,
-                       detections_cache=out / "detections.npz" if write else None)
+                       detections_cache=out / "detections.npz" if write else None, zoom_hidden=zoom,
+                       zoom_unposed=zoom)
 
 
 def _seen_truth(clip: Path) -> tuple[np.ndarray, np.ndarray]:

@@ -1145,6 +1145,27 @@ def test_relocation_takes_no_detection_of_another_height():
         assert (d.box == ahead) == taken, (height, rule, d.box)
 
 
+def test_relocation_without_the_cone_patches_takes_only_what_was_seen():
+    """``relocate_patches=False`` (an ablation of Algorithm 1*'s cone search, ``scripts/ablate_tracking.py``): an
+    occluded dancer that shows again ahead on its path, with no detection there, is relocated onto a cone patch
+    with the patches and stays occluded without them; a detection in the cone is taken either way."""
+    rng = np.random.default_rng(12)
+    start, other = (100.0, 100.0, 60.0, 200.0), (500.0, 100.0, 60.0, 200.0)
+    red, blue, green = (30, 40, 210), (200, 60, 40), (60, 170, 80)
+    frame = _two_colour_frame(rng, [(start, (red, blue)), (other, (green, green))])
+    ahead = (220.0, 100.0, 60.0, 200.0)  # 120 px along the motion
+    later = _two_colour_frame(rng, [(ahead, (red, blue)), (other, (green, green))])
+    for patches, detections, relocated in ((True, [], True), (False, [], False), (False, [ahead], True)):
+        tracker = MultiDancerTracker(frame, [start, other], MultiTrackerConfig(relocate_patches=patches))
+        d = tracker.dancers[0]
+        d.status, d.stored_velocity = OCCLUDED, np.array([4.0, 0.0])  # px/frame to the right
+        tracker.frame_index = 30
+        tracker._relocate(d, later, detections, force=False)
+        assert (d.status == TRACKED) == relocated, (patches, detections, d.box)
+        if relocated:
+            assert abs(d.box[0] - ahead[0]) < 40 and d.box[1:] == pytest.approx(ahead[1:], abs=40)
+
+
 def test_the_cone_search_gives_its_patches_and_the_detections_in_the_cone_apart():
     """Relocation looks for an occluded dancer along its stored motion: patches of its stored box size in a cone
     about the direction of travel, and the detections inside that cone (a detection behind the dancer is not one).

@@ -129,6 +129,10 @@ class MultiTrackerConfig:
     cone_angles: int = 5  # directions sampled across the cone
     min_search_radius: float = 0.25  # x box height: search radius around the prediction when barely moving
     relocate_min_similarity: float = 0.3  # a candidate must correlate at least this well to be taken
+    relocate_patches: bool = True  # the cone search's patches are relocation candidates (Algorithm 1*); False, an
+    # ablation: only the detections in the cone and the dancer's own tracker's box are (session 55, sets D and F of
+    # 120 hdvr synth clips each: failing clips 7 -> 7 on each, mean IDF1 -0.0007 and -0.0003;
+    # scripts/ablate_tracking.py)
     patch_min_foreground: float = 0.15  # a patch of the cone search takes an occluded dancer only if at least
     # this fraction of its pixels are foreground (:meth:`MultiDancerTracker._shows_someone`; 0 = any patch)
     hold_empty_prediction: bool = True  # an occluded dancer's predicted box stays where it was when it would move
@@ -1649,6 +1653,8 @@ class MultiDancerTracker(ReportedExtent):
             found = [det for det in found if self._height_fits(d, det)]
         # the cone's patches are guesses, and those on background are no candidates; the dancer's own tracker
         # (``extra``) and the detections saw something there
+        if not c.relocate_patches:
+            patches = []
         candidates = [b for b, shows in zip(patches, self._shows_someone(frame, d, patches)) if shows] + found + \
             [tuple(b) for b in extra]
         others = [o.box for o in self.dancers if o is not d and o.status == TRACKED]
