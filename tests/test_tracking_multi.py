@@ -1166,6 +1166,24 @@ def test_relocation_without_the_cone_patches_takes_only_what_was_seen():
             assert abs(d.box[0] - ahead[0]) < 40 and d.box[1:] == pytest.approx(ahead[1:], abs=40)
 
 
+def test_an_occluded_dancer_is_predicted_with_the_configured_fraction_of_its_velocity():
+    """``prediction_velocity`` scales how far an occluded dancer's box moves on from its last clear box, and where the
+    cone search looks for it (a disc about the last clear place at 0); the stored velocity itself is kept whole for
+    the failure test."""
+    frame = np.random.default_rng(9).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    for fraction, shift in ((1.0, 120.0), (0.5, 60.0), (0.0, 0.0)):
+        tracker = MultiDancerTracker(frame, [(100.0, 100.0, 60.0, 200.0), (400.0, 100.0, 60.0, 200.0)],
+                                     MultiTrackerConfig(prediction_velocity=fraction))
+        d = tracker.dancers[0]
+        d.stored_velocity = np.array([4.0, 0.0])  # px/frame to the right
+        tracker.frame_index = 30
+        assert tracker._predicted_box(d, 30) == pytest.approx((100.0 + shift, 100.0, 60.0, 200.0))
+        patches, _ = tracker._cone_candidates(d, [])
+        centres = np.array([[p[0] + p[2] / 2, p[1] + p[3] / 2] for p in patches])
+        assert np.linalg.norm(centres.mean(axis=0) - (130.0 + shift, 200.0)) < 0.3 * shift + 1.0, fraction
+        assert list(d.stored_velocity) == [4.0, 0.0]
+
+
 def test_the_cone_search_gives_its_patches_and_the_detections_in_the_cone_apart():
     """Relocation looks for an occluded dancer along its stored motion: patches of its stored box size in a cone
     about the direction of travel, and the detections inside that cone (a detection behind the dancer is not one).

@@ -79,6 +79,12 @@ class MultiTrackerConfig:
     velocity_window: int = 30  # clear frames over which the stored velocity is fitted (least squares)
     min_velocity_span: int = 1  # a clear track spanning fewer frames (one position, e.g. the first clear frame
     # after a re-identification) gives no velocity: the stored one is kept, not replaced by zero
+    prediction_velocity: float = 1.0  # fraction of the stored velocity with which an occluded dancer's box is
+    # predicted and its cone search aimed; the failure test keeps the whole. 0.5 (session 55, with the detector, an
+    # option to measure further): sets D, F and half of G of hdvr synth clips 7 + 7 + 4 -> 5 + 7 + 4 failing, none
+    # newly failing (dancers standing still behind a partner: 2705, 2714 ballet); 0: 6 + 6 + 4, one newly failing
+    # (2704 ballet, a dancer walking on behind others), and a crossing of procedural figures moving on at constant
+    # speed is lost (test_three_dancers_cross_without_identity_switch), so neither is the default yet
     max_speed: float = 0.06  # x box height per frame: the stored velocity is capped there (a dancer crossing the
     # frame runs at about 0.03)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
@@ -742,7 +748,8 @@ class MultiDancerTracker(ReportedExtent):
         return [d.box if d.status == TRACKED else self._predicted_box(d, self.frame_index) for d in dancers]
 
     def _predicted_box(self, d: DancerTrack, frame_index: int):
-        return _shift(d.stored_box, d.stored_velocity * (frame_index - d.stored_frame))
+        travel = self.config.prediction_velocity * d.stored_velocity * (frame_index - d.stored_frame)
+        return _shift(d.stored_box, travel)
 
     def _predict_overlap_end(self, d: DancerTrack, others: list[DancerTrack], now: int) -> int:
         """First frame after ``now`` at which ``d``'s predicted box overlaps none of ``others``' predicted boxes
@@ -763,7 +770,7 @@ class MultiDancerTracker(ReportedExtent):
         c = self.config
         origin = np.array([d.stored_box[0] + d.stored_box[2] / 2, d.stored_box[1] + d.stored_box[3] / 2])
         elapsed = self.frame_index - d.stored_frame
-        travel = d.stored_velocity * elapsed
+        travel = c.prediction_velocity * d.stored_velocity * elapsed
         dist = float(np.linalg.norm(travel))
         w, h = d.stored_box[2], d.stored_box[3]
         centres = []
