@@ -83,8 +83,9 @@ class MultiTrackerConfig:
     # predicted and its cone search aimed; the failure test keeps the whole. 0.5 (session 55, with the detector, an
     # option to measure further): sets D, F and half of G of hdvr synth clips 7 + 7 + 4 -> 5 + 7 + 4 failing, none
     # newly failing (dancers standing still behind a partner: 2705, 2714 ballet); 0: 6 + 6 + 4, one newly failing
-    # (2704 ballet, a dancer walking on behind others), and a crossing of procedural figures moving on at constant
-    # speed is lost (test_three_dancers_cross_without_identity_switch), so neither is the default yet
+    # (2704 ballet, a dancer walking on behind others). At 0.5 and at 0 the tracker alone loses a crossing of
+    # procedural figures moving on at constant speed (test_three_dancers_cross_without_identity_switch), so neither
+    # is the default
     max_speed: float = 0.06  # x box height per frame: the stored velocity is capped there (a dancer crossing the
     # frame runs at about 0.03)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
