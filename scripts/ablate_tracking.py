@@ -33,10 +33,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from bench_track import SYNTH_CLIPS, _seen_truth, parse_tracker_config  # noqa: E402
 from compare_track_runs import failing  # noqa: E402
-from hindsight_runs import kept_runs, load_run, parse_settings, score_run  # noqa: E402
+from hindsight_runs import kept_runs, load_run, parse_settings, save, score_run  # noqa: E402
 
 from hdvr.io.atomic import atomic_path  # noqa: E402
-from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
 
 
 class Variant(NamedTuple):
@@ -89,8 +88,6 @@ def runs_folder(work: Path, variant: Variant) -> Path:
 def _save_seed(job) -> int:
     """Track the six clips of one seed for one variant (a worker process); returns how many were tracked."""
     clips_dir, work, seed, variant_name = job
-    from hindsight_runs import save
-
     variant = VARIANTS_BY_NAME[variant_name]
     runs = runs_folder(work, variant)
     todo = [i for i in range(len(SYNTH_CLIPS)) if not (runs / f"{seed}_{i}.npz").is_file()]
@@ -109,12 +106,7 @@ def score_variant(clips_dir: Path, work: Path, variant: Variant) -> dict:
     scores = {}
     for path, seed, index, clip in kept_runs(clips_dir, runs_folder(work, variant), prog="ablate_tracking"):
         truth_boxes, _ = _seen_truth(clip)
-        run = load_run(path)
-        if variant.hindsight:
-            row = score_run(run, truth_boxes, settings)
-        else:
-            strict = evaluate_tracking(truth_boxes, np.asarray(run["boxes"])[:, np.argsort(run["order"])])
-            row = {"idf1": strict.idf1, "id_switches": strict.id_switches, "mota": strict.mota, "hota": strict.hota}
+        row = score_run(load_run(path), truth_boxes, settings if variant.hindsight else None)
         scores[f"{seed}:{index}"] = {"genre": SYNTH_CLIPS[index][0], **{k: row[k] for k in
                                                                          ("idf1", "id_switches", "mota", "hota")}}
     return scores

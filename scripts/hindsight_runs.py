@@ -85,11 +85,13 @@ def load_run(path: Path) -> dict:
     return run
 
 
-def score_run(run: dict, truth_boxes: np.ndarray, settings: HindsightSettings) -> dict:
+def score_run(run: dict, truth_boxes: np.ndarray, settings: HindsightSettings | None) -> dict:
     """IDF1, switches, MOTA and HOTA at IoU 0.5 and IDF1 and switches at IoU 0.4 of a kept run (:func:`load_run`)
-    after hindsight with ``settings``, against (T, N, 4) px ground-truth boxes."""
-    boxes = apply_hindsight(run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
-                            hidden_starts=run["hidden_starts"], settings=settings)[0]
+    after hindsight with ``settings`` (None: the online tracker's boxes as they are), against (T, N, 4) px
+    ground-truth boxes."""
+    boxes = np.asarray(run["boxes"], float) if settings is None else apply_hindsight(
+        run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
+        hidden_starts=run["hidden_starts"], settings=settings)[0]
     tracked = boxes[:, np.argsort(run["order"])]
     strict, loose = evaluate_tracking(truth_boxes, tracked), evaluate_tracking(truth_boxes, tracked, iou_threshold=0.4)
     return {"dancers": int(truth_boxes.shape[1]), "idf1": strict.idf1, "id_switches": strict.id_switches,

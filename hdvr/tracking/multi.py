@@ -748,9 +748,13 @@ class MultiDancerTracker(ReportedExtent):
         """Where each of ``dancers`` is in this frame, (x, y, w, h px): its box if tracked, else its predicted box."""
         return [d.box if d.status == TRACKED else self._predicted_box(d, self.frame_index) for d in dancers]
 
+    def _travel(self, d: DancerTrack, frame_index: int) -> np.ndarray:
+        """How far (px) occluded dancer ``d`` is taken to have moved from its last clear box by ``frame_index``:
+        ``prediction_velocity`` x its stored velocity x the frames since."""
+        return self.config.prediction_velocity * d.stored_velocity * (frame_index - d.stored_frame)
+
     def _predicted_box(self, d: DancerTrack, frame_index: int):
-        travel = self.config.prediction_velocity * d.stored_velocity * (frame_index - d.stored_frame)
-        return _shift(d.stored_box, travel)
+        return _shift(d.stored_box, self._travel(d, frame_index))
 
     def _predict_overlap_end(self, d: DancerTrack, others: list[DancerTrack], now: int) -> int:
         """First frame after ``now`` at which ``d``'s predicted box overlaps none of ``others``' predicted boxes
@@ -770,8 +774,7 @@ class MultiDancerTracker(ReportedExtent):
         ``detections`` in that cone."""
         c = self.config
         origin = np.array([d.stored_box[0] + d.stored_box[2] / 2, d.stored_box[1] + d.stored_box[3] / 2])
-        elapsed = self.frame_index - d.stored_frame
-        travel = c.prediction_velocity * d.stored_velocity * elapsed
+        travel = self._travel(d, self.frame_index)
         dist = float(np.linalg.norm(travel))
         w, h = d.stored_box[2], d.stored_box[3]
         centres = []
