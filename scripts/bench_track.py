@@ -148,7 +148,8 @@ def main() -> int:
                         help="synth, crowd: YOLO11n-pose (default), or the clip's ground truth as a perfect detector "
                              "(hdvr.synth.truth_detector: the visible part of each dancer as its box, or with "
                              "truth-amodal its whole ground-truth box; --synth-thresholds is then not used)")
-    parser.add_argument("--tracker-config", default="", help="synth, crowd: MultiTrackerConfig fields to change, "
+    parser.add_argument("--tracker-config", default="", help="identity, troupe, synth, crowd: MultiTrackerConfig "
+                        "fields to change, "
                         "e.g. reid_from_holder=false,reid_margin=0.25 (to measure one rule against the defaults)")
     parser.add_argument("--no-hindsight", action="store_true", help="synth, crowd: score the online tracker's "
                         "boxes, without filling the stretches a dancer was unseen (hdvr track --no-hindsight)")
@@ -374,13 +375,15 @@ def identity_section(args, model, tmp, frames: int = 150, troupe: bool = False) 
     """Identity through crossings of 2-4 procedural dancers (``troupe``: groups of 6 and 8 in two rows,
     :func:`hdvr.tracking.testclips.troupe_specs`), tracker alone and with the default detector."""
     detector = tracking_detector(model)
+    config = parse_tracker_config(args.tracker_config)
     seeds = range(args.seed_start, args.seed_start + args.seeds)
     counts = (6, 8) if troupe else (2, 3, 4)
     what = "groups of 6 and 8 dancers in two rows" if troupe else "2-4 dancers"
     lines = [f"### Identity through crossings: procedural clips, {what}, {frames} frames, seeds {seeds[0]}-"
              f"{seeds[-1]}", "",
              "Tracker alone (Algorithm 1*, no detector) and `hdvr track`'s default (YOLO11n-pose at 480 px on every "
-             "3rd frame; it finds the stick figures on few frames), started from the true first-frame boxes.", "",
+             "3rd frame; it finds the stick figures on few frames), started from the true first-frame boxes"
+             + (f"; tracker config changed: `{args.tracker_config}`" if args.tracker_config else "") + ".", "",
              "| dancers | mode | IDF1 per seed | ID switches per seed | MOTA per seed | HOTA per seed | "
              "median IDF1 / MOTA / HOTA |", "|---|---|---|---|---|---|---|"]
     for n in counts:
@@ -393,7 +396,7 @@ def identity_section(args, model, tmp, frames: int = 150, troupe: bool = False) 
         for mode, det in (("tracker only", None), ("detector 480 px / 3rd frame", detector)):
             scores = [evaluate_tracking(truth.boxes, track_video(path, tmp / "identity-out", detector=det,
                                                                  boxes=truth.boxes[0], detect_every=3,
-                                                                 overlay=False, write=False).boxes)
+                                                                 overlay=False, write=False, config=config).boxes)
                       for path, truth in clips]
             lines.append(_score_row(n, mode, scores))
             print(lines[-1], file=sys.stderr)

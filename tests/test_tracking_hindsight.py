@@ -305,6 +305,21 @@ def test_a_stretch_not_seen_after_holds_the_box_where_the_dancer_was_last_seen()
     assert not held.any()
 
 
+def test_a_held_stretch_mixes_in_the_online_prediction_by_the_hold_weight():
+    """``weight`` 1 holds the last box seen, 0 keeps the online prediction, between them a blend of the two (a
+    setting to measure: session 56, docs/benchmarks.md)."""
+    boxes = _walk(12)
+    status = _status(12, occluded=range(6, 12))
+    filled = np.zeros((12, 1), bool)
+    for weight in (1.0, 0.5, 0.0):
+        out, held = hold_last_seen(boxes, status, filled, weight=weight)
+        np.testing.assert_allclose(out[6:, 0], weight * boxes[5, 0] + (1 - weight) * boxes[6:, 0])
+        assert held[6:, 0].all()
+    settings = HindsightSettings(hold_weight=0.0, amodal_boxes=False, smooth_window=1)
+    online = apply_hindsight(boxes, status, np.full((12, 1, 25, 3), np.nan), settings=settings)[0]
+    np.testing.assert_allclose(online[6:, 0], boxes[6:, 0])
+
+
 def test_only_a_stretch_right_after_a_sighting_is_held():
     """A stretch at the very start, or after the dancer was out of the frame or waiting hidden since its start, has
     no box of the dancer seen to hold."""

@@ -1184,6 +1184,28 @@ def test_an_occluded_dancer_is_predicted_with_the_configured_fraction_of_its_vel
         assert list(d.stored_velocity) == [4.0, 0.0]
 
 
+@pytest.mark.parametrize("given_where", ["start", "step"])
+def test_once_a_detector_runs_an_occluded_dancer_is_predicted_with_the_detector_fraction(given_where):
+    """Detections given at a start or in a step (found or not: an empty list counts) switch the prediction to
+    ``detector_prediction_velocity``; None there (the default) keeps ``prediction_velocity`` throughout."""
+    frame = np.random.default_rng(9).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    for detector_fraction, expected in ((0.5, 0.5), (0.25, 0.25), (None, 1.0)):
+        config = MultiTrackerConfig(prediction_velocity=1.0, detector_prediction_velocity=detector_fraction)
+        tracker = MultiDancerTracker(frame, [], config)
+        tracker.add_dancer(frame, (100.0, 100.0, 60.0, 200.0), [] if given_where == "start" else None)
+        tracker.add_dancer(frame, (400.0, 100.0, 60.0, 200.0))
+        assert tracker.prediction_velocity == (1.0 if given_where == "step" else expected)
+        if given_where == "step":
+            tracker.step(frame)  # no detector on this frame: still the tracker alone
+            assert tracker.prediction_velocity == 1.0
+            tracker.step(frame, detections=[])
+        assert tracker.prediction_velocity == expected
+        assert MultiDancerTracker(frame, [], MultiTrackerConfig()).config.detector_prediction_velocity is None
+        d = tracker.dancers[0]
+        d.stored_velocity, d.stored_box, d.stored_frame = np.array([4.0, 0.0]), (100.0, 100.0, 60.0, 200.0), 0
+        assert tracker._predicted_box(d, 30) == pytest.approx((100.0 + 120.0 * expected, 100.0, 60.0, 200.0))
+
+
 def test_the_cone_search_gives_its_patches_and_the_detections_in_the_cone_apart():
     """Relocation looks for an occluded dancer along its stored motion: patches of its stored box size in a cone
     about the direction of travel, and the detections inside that cone (a detection behind the dancer is not one).

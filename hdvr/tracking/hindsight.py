@@ -244,11 +244,13 @@ def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTE
     return out, filled
 
 
-def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """Hold the box where each dancer was last seen through each ``occluded`` stretch that starts right after a frame
     it was seen (``tracked``) and that :func:`fill_occluded` did not fill (``filled``, its (T, N) mask); module
-    docstring. ``boxes`` (T, N, 4) px, NaN where absent or out (those frames stay so). Returns the new boxes and a
-    (T, N) bool mask of the frames held. The input is not changed."""
+    docstring. ``boxes`` (T, N, 4) px, NaN where absent or out (those frames stay so). ``weight``: the held box is
+    ``weight`` x the box last seen + (1 - ``weight``) x the online prediction of that frame (1: held; measured lower in
+    session 56: docs/benchmarks.md). Returns the new boxes and a (T, N) bool mask of the frames held. The input is
+    not changed."""
     boxes, status = _checked(boxes, status)
     filled = np.asarray(filled, bool)
     if filled.shape != boxes.shape[:2]:
@@ -262,7 +264,7 @@ def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray) -> tuple[np.nd
                 continue
             stretch = np.arange(first, last + 1)
             stretch = stretch[np.isfinite(boxes[stretch, i]).all(axis=1)]
-            out[stretch, i] = seen
+            out[stretch, i] = weight * seen + (1.0 - weight) * boxes[stretch, i]
             held[stretch, i] = True
     return out, held
 
@@ -530,8 +532,9 @@ class HindsightSettings:
     runs already tracked, ``scripts/hindsight_runs.py``). ``keypoint_reach`` and ``head_reach`` in box heights,
     ``smooth_window``, ``min_seen_after`` and ``hidden_walk_frames`` in frames, ``start_offset_weight``,
     ``hidden_fill_weight`` and ``start_place_weight`` fractions, ``hidden_feet_tolerance`` in box heights (``inf``:
-    off). ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at ``amodal_weights``
-    ("": the shipped ones)."""
+    off). ``hold_weight``: the share of the box last seen in a held stretch (:func:`hold_last_seen`), the rest the
+    online prediction. ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at
+    ``amodal_weights`` ("": the shipped ones)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
     keypoint_reach: float = KEYPOINT_REACH
@@ -542,6 +545,7 @@ class HindsightSettings:
     hidden_fill_weight: float = HIDDEN_FILL_WEIGHT
     hidden_walk_frames: int = HIDDEN_WALK_FRAMES
     start_place_weight: float = START_PLACE_WEIGHT
+    hold_weight: float = 1.0
     amodal_boxes: bool = True
     amodal_weights: str = ""
 
@@ -562,7 +566,7 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     online = np.asarray(boxes, float)
     offsets, feet = start_offsets(online, hidden_starts), start_feet(online, hidden_starts)
     boxes, filled = fill_occluded(boxes, status, min_seen_after=s.min_seen_after)
-    boxes = hold_last_seen(boxes, status, filled)[0]
+    boxes = hold_last_seen(boxes, status, filled, weight=s.hold_weight)[0]
     boxes = enclose_keypoints(boxes, status, keypoints, reach=s.keypoint_reach, frame_width=frame_width)[0]
     boxes = trim_above_pose(boxes, status, keypoints, reach=s.head_reach)[0]
     boxes = smooth_boxes(boxes, status, window=s.smooth_window)

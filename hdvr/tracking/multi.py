@@ -80,12 +80,17 @@ class MultiTrackerConfig:
     min_velocity_span: int = 1  # a clear track spanning fewer frames (one position, e.g. the first clear frame
     # after a re-identification) gives no velocity: the stored one is kept, not replaced by zero
     prediction_velocity: float = 1.0  # fraction of the stored velocity with which an occluded dancer's box is
-    # predicted and its cone search aimed; the failure test keeps the whole. 0.5 (session 55, with the detector, an
-    # option to measure further): sets D, F and half of G of hdvr synth clips 7 + 7 + 4 -> 5 + 7 + 4 failing, none
-    # newly failing (dancers standing still behind a partner: 2705, 2714 ballet); 0: 6 + 6 + 4, one newly failing
-    # (2704 ballet, a dancer walking on behind others). At 0.5 and at 0 the tracker alone loses a crossing of
-    # procedural figures moving on at constant speed (test_three_dancers_cross_without_identity_switch), so neither
-    # is the default
+    # predicted and its cone search aimed (once a detector runs: ``detector_prediction_velocity``, where set); the
+    # failure test keeps the whole. Below 1 the tracker alone loses a crossing of procedural figures moving on at constant speed
+    # (test_three_dancers_cross_without_identity_switch: measured at 0.5 and 0, session 55)
+    detector_prediction_velocity: float | None = None  # ... the same once a detector runs (detections given to
+    # :meth:`MultiDancerTracker.add_dancer` or :meth:`MultiDancerTracker.step`); None: ``prediction_velocity``
+    # throughout. A detector finds a dancer that walked on out of hiding, while a dancer standing still behind a
+    # partner is looked for far from where it is at full velocity. 0.5 measured (sessions 55-56, YOLO on every 3rd
+    # frame): hdvr synth sets D, F, G and H (420 clips) 7 + 7 + 5 + 0 -> 5 + 7 + 5 + 0 failing, none newly failing;
+    # but procedural stick figures, which YOLO finds on few frames, crossing at constant speed (36 clips of 2-4):
+    # 11 -> 13 failing, 4-dancer seeds 8 and 9 newly with 2 switches each. Not the default: docs/benchmarks.md
+    # "session 56"
     max_speed: float = 0.06  # x box height per frame: the stored velocity is capped there (a dancer crossing the
     # frame runs at about 0.03)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
@@ -500,6 +505,7 @@ class MultiDancerTracker(ReportedExtent):
         self.frame_index = 0
         # the latest frame with detections (sure, weak or none found) and the one before it (-1: none yet)
         self.detector_frame, self.previous_detector_frame = -1, -1
+        self.given_detections = False  # a detector runs: detections (found or not) were given in some frame
         self.dancers: list[DancerTrack] = []
         self._foreground_cache = None  # :meth:`_foreground`
         self.strays: list[tuple[tuple, int]] = []  # :meth:`_stray_people`: (box px, detector frames in a row)
@@ -514,6 +520,7 @@ class MultiDancerTracker(ReportedExtent):
         ``start_ratio_alone``, not for a box whose body core overlaps another dancer's (nor for that dancer, if it
         started in this frame too): the ratio is then learned from the first detection while clear."""
         b = tuple(float(v) for v in box)
+        self.given_detections |= detections is not None
         tracker = LDESTracker(frame, self._core(b), self.config.ldes)
         d = DancerTrack(len(self.dancers), tracker, b, stored_box=b, stored_frame=self.frame_index,
                         start_frame=self.frame_index)
@@ -560,6 +567,7 @@ class MultiDancerTracker(ReportedExtent):
             raise IndexError(f"no dancer {i}: {len(self.dancers)} started")
         d = self.dancers[i]
         b = tuple(float(v) for v in box)
+        self.given_detections |= detections is not None
         self._restart(d, frame, b, 1.0)
         d.status = d.last_status = TRACKED
         d.hidden_behind = None
@@ -750,8 +758,18 @@ class MultiDancerTracker(ReportedExtent):
 
     def _travel(self, d: DancerTrack, frame_index: int) -> np.ndarray:
         """How far (px) occluded dancer ``d`` is taken to have moved from its last clear box by ``frame_index``:
-        ``prediction_velocity`` x its stored velocity x the frames since."""
-        return self.config.prediction_velocity * d.stored_velocity * (frame_index - d.stored_frame)
+        :meth:`prediction_velocity` x its stored velocity x the frames since."""
+        return self.prediction_velocity * d.stored_velocity * (frame_index - d.stored_frame)
+
+    @property
+    def prediction_velocity(self) -> float:
+        """The fraction of its stored velocity an occluded dancer is predicted with: the config's
+        ``detector_prediction_velocity`` once detections were given (a detector runs), else its
+        ``prediction_velocity``."""
+        c = self.config
+        if self.given_detections and c.detector_prediction_velocity is not None:
+            return c.detector_prediction_velocity
+        return c.prediction_velocity
 
     def _predicted_box(self, d: DancerTrack, frame_index: int):
         return _shift(d.stored_box, self._travel(d, frame_index))
@@ -817,6 +835,7 @@ class MultiDancerTracker(ReportedExtent):
         t = self.frame_index
         if detections is not None:
             self._count_detector_frame()
+            self.given_detections = True
         prev_boxes = [d.box for d in self.dancers]
         # 1. move tracked dancers; learn only those that were clear of the others
         for i, d in enumerate(self.dancers):
