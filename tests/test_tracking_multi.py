@@ -1187,7 +1187,8 @@ def test_an_occluded_dancer_is_predicted_with_the_configured_fraction_of_its_vel
 @pytest.mark.parametrize("given_where", ["start", "step"])
 def test_once_a_detector_runs_an_occluded_dancer_is_predicted_with_the_detector_fraction(given_where):
     """Detections given at a start or in a step (found or not: an empty list counts) switch the prediction to
-    ``detector_prediction_velocity``; None there (the default) keeps ``prediction_velocity`` throughout."""
+    ``detector_prediction_velocity`` (for a dancer the detector found while clear); None there (the default) keeps
+    ``prediction_velocity`` throughout."""
     frame = np.random.default_rng(9).integers(0, 255, (480, 640, 3), dtype=np.uint8)
     for detector_fraction, expected in ((0.5, 0.5), (0.25, 0.25), (None, 1.0)):
         config = MultiTrackerConfig(prediction_velocity=1.0, detector_prediction_velocity=detector_fraction)
@@ -1200,10 +1201,35 @@ def test_once_a_detector_runs_an_occluded_dancer_is_predicted_with_the_detector_
             assert tracker.prediction_velocity == 1.0
             tracker.step(frame, detections=[])
         assert tracker.prediction_velocity == expected
-        assert MultiDancerTracker(frame, [], MultiTrackerConfig()).config.detector_prediction_velocity is None
+        assert MultiTrackerConfig().detector_prediction_velocity is None
         d = tracker.dancers[0]
         d.stored_velocity, d.stored_box, d.stored_frame = np.array([4.0, 0.0]), (100.0, 100.0, 60.0, 200.0), 0
+        d.missed, d.detected_clear_at = 0, 0  # the detector found it while clear
         assert tracker._predicted_box(d, 30) == pytest.approx((100.0 + 120.0 * expected, 100.0, 60.0, 200.0))
+
+
+def test_the_detector_fraction_is_only_for_a_dancer_the_detector_found_before_it_was_hidden():
+    """With ``detector_velocity_if_found``, a dancer that no person was detected on (never, or not on the last
+    detector frame it was clear) is predicted with ``prediction_velocity``; off, every dancer gets the detector
+    fraction. A detection on a clear dancer's box is remembered in ``detected_clear_at``."""
+    frame = np.random.default_rng(9).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    boxes = [(100.0, 100.0, 60.0, 200.0), (400.0, 100.0, 60.0, 200.0)]
+    for if_found in (True, False):
+        config = MultiTrackerConfig(prediction_velocity=1.0, detector_prediction_velocity=0.5,
+                                    detector_velocity_if_found=if_found)
+        tracker = MultiDancerTracker(frame, [], config)
+        for box in boxes:
+            tracker.add_dancer(frame, box, boxes)
+        tracker.step(frame, detections=[boxes[0]])  # the detector finds dancer 0 only
+        found, missed = tracker.dancers
+        assert found.detected_clear_at == 1 and found.missed == 0
+        assert missed.detected_clear_at == -1 and missed.missed == 1
+        for d in (found, missed):
+            d.stored_velocity, d.stored_frame = np.array([4.0, 0.0]), 1
+        assert tracker._travel(found, 31) == pytest.approx([60.0, 0.0])
+        assert tracker._travel(missed, 31) == pytest.approx([60.0 if not if_found else 120.0, 0.0])
+        found.missed = 2  # not found on the last detector frames it was clear
+        assert tracker._travel(found, 31) == pytest.approx([60.0 if not if_found else 120.0, 0.0])
 
 
 def test_the_cone_search_gives_its_patches_and_the_detections_in_the_cone_apart():

@@ -81,16 +81,20 @@ class MultiTrackerConfig:
     # after a re-identification) gives no velocity: the stored one is kept, not replaced by zero
     prediction_velocity: float = 1.0  # fraction of the stored velocity with which an occluded dancer's box is
     # predicted and its cone search aimed (once a detector runs: ``detector_prediction_velocity``, where set); the
-    # failure test keeps the whole. Below 1 the tracker alone loses a crossing of procedural figures moving on at constant speed
-    # (test_three_dancers_cross_without_identity_switch: measured at 0.5 and 0, session 55)
+    # failure test keeps the whole. Below 1 the tracker alone loses a crossing of procedural figures moving on at
+    # constant speed (test_three_dancers_cross_without_identity_switch: measured at 0.5 and 0, session 55)
     detector_prediction_velocity: float | None = None  # ... the same once a detector runs (detections given to
     # :meth:`MultiDancerTracker.add_dancer` or :meth:`MultiDancerTracker.step`); None: ``prediction_velocity``
     # throughout. A detector finds a dancer that walked on out of hiding, while a dancer standing still behind a
-    # partner is looked for far from where it is at full velocity. 0.5 measured (sessions 55-56, YOLO on every 3rd
-    # frame): hdvr synth sets D, F, G and H (420 clips) 7 + 7 + 5 + 0 -> 5 + 7 + 5 + 0 failing, none newly failing;
-    # but procedural stick figures, which YOLO finds on few frames, crossing at constant speed (36 clips of 2-4):
-    # 11 -> 13 failing, 4-dancer seeds 8 and 9 newly with 2 switches each. Not the default: docs/benchmarks.md
-    # "session 56"
+    # partner is looked for far from where it is at full velocity (hdvr synth D 2705 ballet 0.898 -> 0.969, 2714
+    # ballet 0.823 -> 0.981 at 0.5). An option, off: docs/benchmarks.md "session 56"
+    detector_velocity_if_found: bool = True  # ... and only for a dancer on whose clear box the detector found a
+    # person on the last detector frame before it was hidden (the detector sees it, so it will find it again where
+    # it comes out); one it did not find is predicted with ``prediction_velocity``. Session 56, YOLO on every 3rd
+    # frame, 0.5 against 1: hdvr synth sets D, F, G (120 clips each) and a fresh H (60) 7 + 7 + 5 + 0 -> 5 + 7 + 5 +
+    # 0 failing, none newly failing; procedural crossings with the detector (36 clips of 2-4 stick figures) 11 -> 11
+    # failing, switches 12 -> 15; but procedural groups of 6 (6 clips) get 4 more switches (seed 3 0.99 -> 0.86).
+    # For every dancer alike (this off): as many failing on D-H, procedural crossings 11 -> 13 failing
     max_speed: float = 0.06  # x box height per frame: the stored velocity is capped there (a dancer crossing the
     # frame runs at about 0.03)
     histogram_smoothing: float = 0.1  # weight of the newest histogram in the stored one
@@ -758,8 +762,12 @@ class MultiDancerTracker(ReportedExtent):
 
     def _travel(self, d: DancerTrack, frame_index: int) -> np.ndarray:
         """How far (px) occluded dancer ``d`` is taken to have moved from its last clear box by ``frame_index``:
-        :meth:`prediction_velocity` x its stored velocity x the frames since."""
-        return self.prediction_velocity * d.stored_velocity * (frame_index - d.stored_frame)
+        :meth:`prediction_velocity` x its stored velocity x the frames since; with ``detector_velocity_if_found``,
+        ``prediction_velocity`` for a dancer the detector did not find on the last detector frame it was clear."""
+        fraction = self.prediction_velocity
+        if self.config.detector_velocity_if_found and (d.missed > 0 or d.detected_clear_at < 0):
+            fraction = self.config.prediction_velocity
+        return fraction * d.stored_velocity * (frame_index - d.stored_frame)
 
     @property
     def prediction_velocity(self) -> float:
@@ -866,6 +874,7 @@ class MultiDancerTracker(ReportedExtent):
                 d.missed = 0 if matches else d.missed + 1
                 if matches:
                     d.detected_at_edge = self._cut_by_edge(matches)
+                    d.detected_clear_at = t
                 elif self._walked_out(frame, d):
                     self._set_out(d, d.detected_at_edge)
                     continue

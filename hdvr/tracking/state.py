@@ -53,6 +53,7 @@ class DancerTrack:
     stuck: int = 0  # detector frames in a row in which the one person on its clear box was too far off to adapt it
     edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
     detected_at_edge: str | None = None  # "left" or "right": the last detection on the box was cut by that edge
+    detected_clear_at: int = -1  # last detector frame in which a person was detected on its box while it was clear
     # detections half beside the dancers in front that a dancer waiting behind them could come out on
     # (``MultiTrackerConfig.emerge_beside_persist``), as (box px, detector frames in a row one lay there):
     beside_now: list = field(default_factory=list)  # in its latest detector frame, ``beside_frame``
