@@ -164,6 +164,7 @@ def main() -> int:
     if args.quick:
         args.repeats, args.frames = 1, 150
     sections = set(args.sections.split(","))
+    config = parse_tracker_config(args.tracker_config)  # a wrong field fails here, before any section runs
     if args.settings:
         SETTINGS[:] = [tuple(int(v) for v in item.split("x")) for item in args.settings.split(",")]
     model = TrackingModel(default_pose_model(), args.weak_threshold, args.flip_test)
@@ -189,14 +190,13 @@ def main() -> int:
     if "detector" in sections and REAL_VIDEO.is_file():
         lines += detector_section(model.path)
     if "identity" in sections:
-        lines += identity_section(args, model, tmp)
+        lines += identity_section(args, model, tmp, config)
     if "troupe" in sections:
-        lines += identity_section(args, model, tmp, troupe=True)
+        lines += identity_section(args, model, tmp, config, troupe=True)
     if "zoom" in sections:
         lines += zoom_section(model, tmp, repeats=args.repeats)
     if "cache" in sections:
         lines += cache_section(args, clip, boxes, model, tmp)
-    config = parse_tracker_config(args.tracker_config)
     per_clip: dict = {}
     if "synth" in sections:
         lines += synth_section(model, tmp, seeds=[int(v) for v in args.synth_seeds.split(",")],
@@ -371,11 +371,12 @@ def _score_row(dancers: int, mode: str, scores: list) -> str:
             f"{per_seed('mota', '.2f')} | {per_seed('hota', '.2f')} | {med[0]:.3f} / {med[1]:.3f} / {med[2]:.3f} |")
 
 
-def identity_section(args, model, tmp, frames: int = 150, troupe: bool = False) -> list[str]:
+def identity_section(args, model, tmp, config: MultiTrackerConfig, frames: int = 150,
+                     troupe: bool = False) -> list[str]:
     """Identity through crossings of 2-4 procedural dancers (``troupe``: groups of 6 and 8 in two rows,
-    :func:`hdvr.tracking.testclips.troupe_specs`), tracker alone and with the default detector."""
+    :func:`hdvr.tracking.testclips.troupe_specs`), tracker alone and with the default detector, with ``config``
+    (``--tracker-config``)."""
     detector = tracking_detector(model)
-    config = parse_tracker_config(args.tracker_config)
     seeds = range(args.seed_start, args.seed_start + args.seeds)
     counts = (6, 8) if troupe else (2, 3, 4)
     what = "groups of 6 and 8 dancers in two rows" if troupe else "2-4 dancers"

@@ -773,7 +773,8 @@ class MultiDancerTracker(ReportedExtent):
     def prediction_velocity(self) -> float:
         """The fraction of its stored velocity an occluded dancer is predicted with: the config's
         ``detector_prediction_velocity`` once detections were given (a detector runs), else its
-        ``prediction_velocity``."""
+        ``prediction_velocity``; :meth:`_travel` keeps ``prediction_velocity`` for a dancer the detector did not
+        find (``detector_velocity_if_found``)."""
         c = self.config
         if self.given_detections and c.detector_prediction_velocity is not None:
             return c.detector_prediction_velocity
