@@ -69,15 +69,18 @@ def save_run(path: Path, run, order) -> None:
         np.savez_compressed(tmp, boxes=run.boxes,
                             status=np.array(run.status, dtype="U10").reshape(run.boxes.shape[:2]),
                             keypoints=run.keypoints, order=np.asarray(order, int),
-                            hidden_starts=np.array(run.hidden_starts, int).reshape(-1, 3), width=float(run.size[0]))
+                            hidden_starts=np.array(run.hidden_starts, int).reshape(-1, 3), width=float(run.size[0]),
+                            stopped_behind=np.asarray(run.stopped_behind, bool))
 
 
 def load_run(path: Path) -> dict:
-    """A run kept by :func:`save_run`: its arrays, with ``status`` as T tuples of N strings and ``hidden_starts``
-    as (frame, dancer, front) tuples."""
+    """A run kept by :func:`save_run`: its arrays, with ``status`` as T tuples of N strings, ``hidden_starts``
+    as (frame, dancer, front) tuples and ``stopped_behind`` (T, N) bool (None in a run kept before it was)."""
     try:
         with np.load(path) as data:
             run = {k: data[k] for k in RUN_KEYS}
+            # runs kept before session 57 have no stopped_behind (the tracker stopped no prediction then)
+            run["stopped_behind"] = data["stopped_behind"] if "stopped_behind" in data.files else None
     except (OSError, ValueError, KeyError) as exc:
         raise SystemExit(f"hindsight_runs: {path} is not a kept run ({type(exc).__name__}: {exc})")
     run["status"] = [tuple(str(s) for s in row) for row in run["status"]]
@@ -91,7 +94,7 @@ def score_run(run: dict, truth_boxes: np.ndarray, settings: HindsightSettings | 
     ground-truth boxes."""
     boxes = np.asarray(run["boxes"], float) if settings is None else apply_hindsight(
         run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
-        hidden_starts=run["hidden_starts"], settings=settings)[0]
+        hidden_starts=run["hidden_starts"], settings=settings, stopped_behind=run.get("stopped_behind"))[0]
     tracked = boxes[:, np.argsort(run["order"])]
     strict, loose = evaluate_tracking(truth_boxes, tracked), evaluate_tracking(truth_boxes, tracked, iou_threshold=0.4)
     return {"dancers": int(truth_boxes.shape[1]), "idf1": strict.idf1, "id_switches": strict.id_switches,

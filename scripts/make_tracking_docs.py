@@ -171,10 +171,10 @@ def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str
     run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
                       write=False, hindsight=False)
     filled, mask = fill_occluded(run.boxes, run.status)
-    filled, _ = hold_last_seen(filled, run.status, mask)
+    filled, _ = hold_last_seen(filled, run.status, mask, stopped=run.stopped_behind)
     widened, _ = enclose_keypoints(filled, run.status, run.keypoints, frame_width=run.size[0])
     lowered, _ = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
-                                 settings=HindsightSettings(amodal_boxes=False))
+                                 settings=HindsightSettings(amodal_boxes=False), stopped_behind=run.stopped_behind)
     written = keep_start_offset(lowered, run.status, start_offsets(run.boxes, run.hidden_starts))  # the last step
     steps = [smooth_boxes(filled, run.status), smooth_boxes(widened, run.status), lowered, written]
     return gt, [b[:, np.argsort(order)] for b in steps], video
@@ -291,7 +291,7 @@ def main(argv=None) -> int:
             run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
                               write=False, hindsight=False)
             tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
-                                       hidden_starts=run.hidden_starts,
+                                       hidden_starts=run.hidden_starts, stopped_behind=run.stopped_behind,
                                        settings=HindsightSettings(amodal_boxes=refined))[0][:, np.argsort(order)]
                        for refined in (False, True)]
             path = args.out / name

@@ -320,6 +320,29 @@ def test_a_held_stretch_mixes_in_the_online_prediction_by_the_hold_weight():
     np.testing.assert_allclose(online[6:, 0], boxes[6:, 0])
 
 
+def test_a_stretch_the_tracker_stopped_behind_the_dancers_in_front_keeps_its_online_boxes():
+    """Where the online tracker stopped the dancer's predicted box behind the dancers in front (``stopped``, from
+    ``TrackRun.stopped_behind``: its prediction ran on only while hidden, then stayed where it was hidden best), the
+    stretch keeps its online boxes instead of the box last seen; other stretches are held as before. Through
+    :func:`apply_hindsight` that is ``stopped_behind``, switched off by ``keep_stopped=False``."""
+    boxes = np.concatenate([_walk(12), _walk(12)], axis=1)
+    status = [a + b for a, b in zip(_status(12, occluded=range(6, 12)), _status(12, occluded=range(4, 12)))]
+    filled = np.zeros((12, 2), bool)
+    stopped = np.zeros((12, 2), bool)
+    stopped[9:, 0] = True  # dancer 0 stopped on frame 9 of its stretch 6-11
+    out, held = hold_last_seen(boxes, status, filled, stopped=stopped)
+    np.testing.assert_array_equal(out[:, 0], boxes[:, 0])  # the whole stretch online, also before the stop
+    assert not held[:, 0].any()
+    np.testing.assert_array_equal(out[4:, 1], np.tile(boxes[3, 1], (8, 1)))  # not stopped: held
+    with pytest.raises(ValueError, match="stopped"):
+        hold_last_seen(boxes, status, filled, stopped=np.zeros((12, 1), bool))
+    keypoints = np.full((12, 2, 25, 3), np.nan)
+    for keep, expected in ((True, boxes[6:, 0]), (False, np.tile(boxes[5, 0], (6, 1)))):
+        settings = HindsightSettings(keep_stopped=keep, amodal_boxes=False, smooth_window=1)
+        written = apply_hindsight(boxes, status, keypoints, settings=settings, stopped_behind=stopped)[0]
+        np.testing.assert_allclose(written[6:, 0], expected)
+
+
 def test_only_a_stretch_right_after_a_sighting_is_held():
     """A stretch at the very start, or after the dancer was out of the frame or waiting hidden since its start, has
     no box of the dancer seen to hold."""

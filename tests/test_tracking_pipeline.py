@@ -572,9 +572,13 @@ def test_an_occluded_stretch_gets_boxes_filled_with_hindsight(tmp_path):
     first, last = occluded[0], occluded[-1]
     assert len(occluded) >= 10 and occluded == list(range(first, last + 1)) and status[last + 1] == "tracked"
     assert np.flatnonzero(runs[True].filled[:, 1]).tolist() == occluded and not runs[True].filled[:, 0].any()
+    for run in runs.values():  # the frames the tracker stopped a prediction behind the dancers in front: occluded ones
+        assert run.stopped_behind.shape == run.boxes.shape[:2] and run.stopped_behind.dtype == bool
+        assert all(status[t] == "occluded" for t in np.flatnonzero(run.stopped_behind[:, 1]))
     online, written = runs[False].boxes, runs[True].boxes
     expected, filled = apply_hindsight(online, runs[False].status, runs[False].keypoints, frame_width=640,
-                                       hidden_starts=runs[False].hidden_starts)
+                                       hidden_starts=runs[False].hidden_starts,
+                                       stopped_behind=runs[False].stopped_behind)
     np.testing.assert_allclose(written, expected)
     np.testing.assert_array_equal(filled, runs[True].filled)
     assert min(iou_matrix(truth.boxes[t, 1][None], written[t, 1][None])[0, 0] for t in occluded) >= 0.6

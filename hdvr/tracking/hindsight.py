@@ -26,7 +26,9 @@ was last seen, instead of the online prediction, which starts from its last box 
 earlier, while it still moved freely) and runs on with the velocity it had then: a dancer that stays hidden behind
 others has mostly stopped there (it would show again had it moved on). 936 hdvr synth clips: clips below IDF1 0.9
 or with a switch 51 -> 45, mean 0.9807 -> 0.9814; hdvr synth seed 712 hip-hop quartet 0.840 -> 0.983
-(docs/benchmarks.md "session 33").
+(docs/benchmarks.md "session 33"). A stretch in which the online tracker stopped the dancer's predicted box behind
+the dancers in front (``stopped``: it ran on only while hidden, then stayed where the dancer was hidden best;
+``MultiTrackerConfig.hold_uncovered_prediction``) keeps its online boxes (session 57).
 
 :func:`enclose_keypoints`: each box of a dancer seen (``tracked``) is widened, left and right, to enclose the
 keypoints written for it (those of the pose Algorithm 2* chose, interpolated between detector frames), plus
@@ -244,17 +246,24 @@ def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTE
     return out, filled
 
 
-def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float = 1.0,
+                   stopped: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Hold the box where each dancer was last seen through each ``occluded`` stretch that starts right after a frame
     it was seen (``tracked``) and that :func:`fill_occluded` did not fill (``filled``, its (T, N) mask); module
     docstring. ``boxes`` (T, N, 4) px, NaN where absent or out (those frames stay so). ``weight``: the held box is
     ``weight`` x the box last seen + (1 - ``weight``) x the online prediction of that frame (1: held; measured lower in
-    session 56: docs/benchmarks.md). Returns the new boxes and a (T, N) bool mask of the frames held. The input is
-    not changed."""
+    session 56: docs/benchmarks.md). ``stopped``: optional (T, N) bool, the frames in which the online tracker had
+    stopped the dancer's predicted box behind the dancers in front (``TrackRun.stopped_behind``); a stretch with any
+    such frame keeps its online boxes (they ran on only while hidden). Returns the new boxes and a (T, N) bool mask
+    of the frames held. The input is not changed."""
     boxes, status = _checked(boxes, status)
     filled = np.asarray(filled, bool)
     if filled.shape != boxes.shape[:2]:
         raise ValueError(f"filled must be (T, N) for boxes {boxes.shape}, got {filled.shape}")
+    if stopped is not None:
+        stopped = np.asarray(stopped, bool)
+        if stopped.shape != boxes.shape[:2]:
+            raise ValueError(f"stopped must be (T, N) for boxes {boxes.shape}, got {stopped.shape}")
     out = boxes.copy()
     held = np.zeros(boxes.shape[:2], bool)
     for i in range(boxes.shape[1]):
@@ -262,6 +271,8 @@ def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float 
             seen = boxes[first - 1, i] if first > 0 else None
             if seen is None or status[first - 1, i] != TRACKED or filled[first, i] or not np.isfinite(seen).all():
                 continue
+            if stopped is not None and stopped[first:last + 1, i].any():
+                continue  # the tracker kept it behind the dancers in front: its online boxes say where
             stretch = np.arange(first, last + 1)
             stretch = stretch[np.isfinite(boxes[stretch, i]).all(axis=1)]
             out[stretch, i] = weight * seen + (1.0 - weight) * boxes[stretch, i]
@@ -533,7 +544,8 @@ class HindsightSettings:
     ``smooth_window``, ``min_seen_after`` and ``hidden_walk_frames`` in frames, ``start_offset_weight``,
     ``hidden_fill_weight`` and ``start_place_weight`` fractions, ``hidden_feet_tolerance`` in box heights (``inf``:
     off). ``hold_weight``: the share of the box last seen in a held stretch (:func:`hold_last_seen`), the rest the
-    online prediction. ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at
+    online prediction; ``keep_stopped``: a stretch in which the online tracker stopped the dancer behind the
+    dancers in front keeps its online boxes (:func:`hold_last_seen`'s ``stopped``). ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at
     ``amodal_weights`` ("": the shipped ones)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
@@ -546,12 +558,14 @@ class HindsightSettings:
     hidden_walk_frames: int = HIDDEN_WALK_FRAMES
     start_place_weight: float = START_PLACE_WEIGHT
     hold_weight: float = 1.0
+    keep_stopped: bool = True
     amodal_boxes: bool = True
     amodal_weights: str = ""
 
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
-                    hidden_starts=(), settings: HindsightSettings | None = None) -> tuple[np.ndarray, np.ndarray]:
+                    hidden_starts=(), settings: HindsightSettings | None = None,
+                    stopped_behind: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The boxes ``hdvr track`` writes, from the online tracker's ``boxes`` (T, N, 4) px, ``status``, the
     ``keypoints`` (T, N, 25, 3) written for each dancer and the dancers that start hidden behind another
     (``hidden_starts``: (frame, dancer, dancer in front) triples): :func:`fill_occluded`, :func:`hold_last_seen`,
@@ -560,13 +574,15 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     their start feet), :func:`fill_hidden_until_seen`, :func:`keep_start_place` (towards the online start boxes)
     and :func:`hdvr.tracking.amodal.refine_boxes` (seen dancers' boxes to their whole body), in that order, with
     ``settings``
-    (default: :class:`HindsightSettings`, the module's). Returns the boxes and the (T, N) bool mask of the frames
-    filled."""
+    (default: :class:`HindsightSettings`, the module's); ``stopped_behind``: optional (T, N) bool, the frames in
+    which the online tracker had stopped a dancer behind the dancers in front (``TrackRun.stopped_behind``).
+    Returns the boxes and the (T, N) bool mask of the frames filled."""
     s = settings or HindsightSettings()
     online = np.asarray(boxes, float)
     offsets, feet = start_offsets(online, hidden_starts), start_feet(online, hidden_starts)
     boxes, filled = fill_occluded(boxes, status, min_seen_after=s.min_seen_after)
-    boxes = hold_last_seen(boxes, status, filled, weight=s.hold_weight)[0]
+    boxes = hold_last_seen(boxes, status, filled, weight=s.hold_weight,
+                           stopped=stopped_behind if s.keep_stopped else None)[0]
     boxes = enclose_keypoints(boxes, status, keypoints, reach=s.keypoint_reach, frame_width=frame_width)[0]
     boxes = trim_above_pose(boxes, status, keypoints, reach=s.head_reach)[0]
     boxes = smooth_boxes(boxes, status, window=s.smooth_window)

@@ -40,7 +40,7 @@ from hdvr.tracking.appearance import box_iou, box_overlap
 from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_json
 from hdvr.tracking.amodal import load_refiner
 from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
-from hdvr.tracking.multi import OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
+from hdvr.tracking.multi import OCCLUDED, OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.state import HIDDEN, body_core
 from hdvr.tracking.timeline import draw_tracks_timeline
 from hdvr.video import VideoReader, VideoWriter
@@ -71,6 +71,8 @@ class TrackRun:
     # (:func:`hdvr.tracking.hindsight.fill_occluded`)
     detections_reused: int = 0  # frames whose people came from the detections cache (track_video's
     # ``detections_cache``) instead of the detector
+    stopped_behind: np.ndarray | None = None  # (T, N) bool: occluded, its predicted box stopped behind the dancers
+    # in front (``DancerTrack.stopped_behind``); hindsight keeps such a stretch's online boxes
 
 
 @dataclass(frozen=True)
@@ -352,7 +354,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     input size (px) on those crops, where it can change it (``at_input_size``; None: its own). ``hindsight``: once
     all frames are tracked, fill the boxes of each stretch in which a dancer was occluded between where it was seen
     before and after (:func:`hdvr.tracking.hindsight.fill_occluded`; a stretch not seen after it holds the box
-    where the dancer was last seen, :func:`hdvr.tracking.hindsight.hold_last_seen`), widen each box to enclose its
+    where the dancer was last seen, :func:`hdvr.tracking.hindsight.hold_last_seen`, unless the tracker stopped it
+    behind the dancers in front: ``TrackRun.stopped_behind``), widen each box to enclose its
     dancer's keypoints (:func:`hdvr.tracking.hindsight.enclose_keypoints`), lower the top of a box that reaches far
     above a full pose (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
     (:func:`hdvr.tracking.hindsight.smooth_boxes`), all in :func:`hdvr.tracking.hindsight.apply_hindsight`; off, the
@@ -418,7 +421,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     if crops and zoom_input_size and hasattr(detector, "at_input_size"):
         crop_detector = detector.at_input_size(zoom_input_size)
     zoom_retry: dict[int, int] = {}  # tracker index -> first frame to look for it zoomed in again (zoom_unposed)
-    all_boxes, all_status, all_conf, all_kp, detected = [], [], [], [], []
+    all_boxes, all_status, all_conf, all_kp, detected, all_stopped = [], [], [], [], [], []
     stage = dict.fromkeys(("decode", "detect", "track", "select", "overlay"), 0.0)
     tracker = None
     hidden_starts = []
@@ -525,6 +528,10 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             all_boxes.append(result.boxes[order])  # rows by written id
             all_status.append(tuple(status[k] for k in order))
             all_conf.append(result.confidence[order])
+            stopped = np.zeros(n, bool)  # predicted boxes stopped behind the dancers in front (hindsight keeps them)
+            if tracker is not None:
+                stopped[:len(tracker.dancers)] = [d.status == OCCLUDED and d.stopped_behind for d in tracker.dancers]
+            all_stopped.append(stopped[order])
             all_kp.append(kp[order])
             detected.append(run_detector)
             t += 1
@@ -536,19 +543,21 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         failure = exc
     finally:
         bar.close()
-    done = min(len(all_boxes), len(all_status), len(all_conf), len(all_kp), len(detected))  # an interrupt may
-    del all_boxes[done:], all_status[done:], all_conf[done:], all_kp[done:], detected[done:]  # land mid-frame
+    done = min(len(all_boxes), len(all_status), len(all_conf), len(all_kp), len(detected),  # an interrupt may
+               len(all_stopped))  # land mid-frame
+    del all_boxes[done:], all_status[done:], all_conf[done:], all_kp[done:], detected[done:], all_stopped[done:]
     if not all_boxes:
         if failure is not None:
             raise failure
         raise HDVRError(f"video {video} has no decodable frame")
     run = TrackRun(np.array(all_boxes, float), all_status, np.array(all_conf, float), np.array(all_kp, np.float32),
-                   np.array(detected, bool), info.fps, info.size, hidden_starts=hidden_starts)
+                   np.array(detected, bool), info.fps, info.size, hidden_starts=hidden_starts,
+                   stopped_behind=np.array(all_stopped, bool).reshape(done, n))
     run.keypoints = fill_between_detections(run.keypoints, run.detected, detect_every)
     run.filled = np.zeros(run.boxes.shape[:2], bool)
     if hindsight:
         run.boxes, run.filled = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=info.size[0],
-                                                hidden_starts=hidden_starts,
+                                                hidden_starts=hidden_starts, stopped_behind=run.stopped_behind,
                                                 settings=HindsightSettings(amodal_boxes=amodal_boxes,
                                                                            amodal_weights=str(amodal_weights or "")))
     for c in corrections:  # written as the user gave them (or as found where the user pointed)

@@ -54,6 +54,10 @@ class DancerTrack:
     edge_empty_score: float = 1.0  # lowest histogram similarity of the edge strip to the memory since it left
     detected_at_edge: str | None = None  # "left" or "right": the last detection on the box was cut by that edge
     detected_clear_at: int = -1  # last detector frame in which a person was detected on its box while it was clear
+    found_streak: int = 0  # detector frames in a row, while clear, with a person detected on its box
+    stopped_behind: bool = False  # occluded, its predicted box was stopped behind the dancers in front
+    # (``MultiTrackerConfig.hold_uncovered_prediction``) and stays there until it is found again
+    cover_path: list = field(default_factory=list)  # while occluded: (fraction of its core covered, predicted box px)
     # detections half beside the dancers in front that a dancer waiting behind them could come out on
     # (``MultiTrackerConfig.emerge_beside_persist``), as (box px, detector frames in a row one lay there):
     beside_now: list = field(default_factory=list)  # in its latest detector frame, ``beside_frame``
