@@ -992,7 +992,10 @@ class MultiDancerTracker(ReportedExtent):
                     d.box = tuple(float(v) for v in hidden.mean(axis=0))
                     d.stopped_behind = True
                     continue
-                d.cover_path.append((cover, tuple(predicted)))
+                # only the boxes near the best cover so far are kept (the list stays short however long it hides)
+                if cover >= best - 0.05:
+                    d.cover_path = [(v, b) for v, b in d.cover_path if v >= max(best, cover) - 0.05]
+                    d.cover_path.append((cover, tuple(predicted)))
             d.box = predicted
         self._reidentify(frame, occluded, own_boxes, detections)
         for d, own in zip(occluded, own_boxes):
