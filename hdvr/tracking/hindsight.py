@@ -545,8 +545,8 @@ class HindsightSettings:
     ``hidden_fill_weight`` and ``start_place_weight`` fractions, ``hidden_feet_tolerance`` in box heights (``inf``:
     off). ``hold_weight``: the share of the box last seen in a held stretch (:func:`hold_last_seen`), the rest the
     online prediction; ``keep_stopped``: a stretch in which the online tracker stopped the dancer behind the
-    dancers in front keeps its online boxes (:func:`hold_last_seen`'s ``stopped``). ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at
-    ``amodal_weights`` ("": the shipped ones)."""
+    dancers in front keeps its online boxes (:func:`hold_last_seen`'s ``stopped``). ``amodal_boxes``: end with
+    :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at ``amodal_weights`` ("": the shipped ones)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
     keypoint_reach: float = KEYPOINT_REACH

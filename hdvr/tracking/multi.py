@@ -64,6 +64,9 @@ from hdvr.tracking.state import (OCCLUDED, OUT, TRACKED, DancerTrack, FrameResul
 
 #: fraction of a dancer's box height left out at its top and at its bottom in the dancers' colour histograms
 HISTOGRAM_END_SHRINK = 0.15
+#: covers of an occluded dancer's predicted boxes within this of the best are as well hidden
+#: (``MultiTrackerConfig.hold_uncovered_prediction``: it stops at the middle of those boxes)
+COVER_TIE = 0.05
 
 
 @dataclass(frozen=True)
@@ -159,9 +162,10 @@ class MultiTrackerConfig:
     hold_uncovered_prediction: float = 0.6  # once a detector runs, an occluded dancer whose predicted box was at
     # least this much hidden (fraction of its body core inside the body cores of the dancers followed in front)
     # stops when it would come out from behind them (below this), if the detector found it on the last detector
-    # frames it was clear (``hold_found_streak`` in a row): a dancer the detector sees that walked out would have been
-    # found, so it stopped behind them (a stick figure YOLO finds now and then is not held: procedural groups of 6,
-    # seed 3, 0.99 -> 0.85 with 2 switches when one found on its last clear detector frame was). Its box goes back to the middle of the stretch of its path hidden best and stays
+    # frames it was clear (``hold_found_streak`` in a row): a dancer the detector sees that walked out would have
+    # been found, so it stopped behind them (a stick figure YOLO finds now and then is not held: procedural groups of
+    # 6, seed 3, 0.99 -> 0.85 with 2 switches when one found on its last clear detector frame was). Its box goes back
+    # to the middle of the stretch of its path hidden best (cover within ``COVER_TIE`` of the best) and stays
     # (``DancerTrack.stopped_behind``); the cone search's patches look on the way there, its detections in both
     # cones; hindsight keeps such a stretch's online boxes (``HindsightSettings.keep_stopped``). 0: off. The
     # tracker alone, which finds a dancer that walked on only on cone patches, keeps Algorithm 1*'s prediction.
@@ -988,13 +992,13 @@ class MultiDancerTracker(ReportedExtent):
                 if cover < c.hold_uncovered_prediction <= best:
                     # it would come out from behind the dancers in front unseen: it stopped where its predicted
                     # path was hidden best (the middle of the best-hidden stretch)
-                    hidden = np.array([b for v, b in d.cover_path if v >= best - 0.05], dtype=float)
+                    hidden = np.array([b for v, b in d.cover_path if v >= best - COVER_TIE], dtype=float)
                     d.box = tuple(float(v) for v in hidden.mean(axis=0))
                     d.stopped_behind = True
                     continue
                 # only the boxes near the best cover so far are kept (the list stays short however long it hides)
-                if cover >= best - 0.05:
-                    d.cover_path = [(v, b) for v, b in d.cover_path if v >= max(best, cover) - 0.05]
+                if cover >= best - COVER_TIE:
+                    d.cover_path = [(v, b) for v, b in d.cover_path if v >= max(best, cover) - COVER_TIE]
                     d.cover_path.append((cover, tuple(predicted)))
             d.box = predicted
         self._reidentify(frame, occluded, own_boxes, detections)

@@ -58,7 +58,7 @@ class DancerTrack:
     stopped_behind: bool = False  # occluded, its predicted box was stopped behind the dancers in front
     # (``MultiTrackerConfig.hold_uncovered_prediction``) and stays there until it is found again
     cover_path: list = field(default_factory=list)  # while occluded: (fraction of its core covered, predicted box px)
-    # of the predicted boxes within 0.05 of the best cover so far
+    # of the predicted boxes within ``hdvr.tracking.multi.COVER_TIE`` of the best cover so far
     # detections half beside the dancers in front that a dancer waiting behind them could come out on
     # (``MultiTrackerConfig.emerge_beside_persist``), as (box px, detector frames in a row one lay there):
     beside_now: list = field(default_factory=list)  # in its latest detector frame, ``beside_frame``
