@@ -114,30 +114,39 @@ def test_box_size_follows_detections(tmp_path):
 def test_long_lost_dancer_recovered_without_swap(tmp_path):
     """A box left on a static background whose memory also matches that background (as for a dancer filmed
     against it before a jump) keeps matching its memory; after ``long_lost_detections`` detector frames without a
-    person on it, it moves to the unclaimed person who matches its memory better than the other dancer's."""
+    person on it, it moves to the unclaimed person who matches its memory better than the other dancer's. With
+    ``lost_max_foreground`` (on by default) the box, showing no foreground, is lost there sooner, after
+    ``max_missed_detections`` detector frames, and the dancer is found again as an occluded one, earlier."""
     from hdvr.tracking.appearance import colour_histogram
+    from hdvr.tracking.multi import MultiTrackerConfig
 
     truth = render_clip(tmp_path / "clip.mp4", frames=60, specs=default_crossing_specs(num_figures=2, seed=2))
     frames = list(VideoReader(tmp_path / "clip.mp4"))
-    tracker = MultiDancerTracker(frames[0], truth.boxes[0])
     w, h = truth.boxes[0, 0, 2:]
     parked = (320 - w / 2, truth.boxes[0, 0, 1], w, h)  # background between the two, who meet there only later
-    moved_at = None
-    for t in range(1, 60):
-        if t == 3:
-            d = tracker.dancers[0]
-            d.box, d.tracker.center = parked, (parked[0] + parked[2] / 2, parked[1] + parked[3] / 2)
-            d.stored_histogram = 0.5 * d.stored_histogram + 0.5 * colour_histogram(frames[t], parked)
-        result = tracker.step(frames[t], [tuple(b) for b in truth.boxes[t]] if t % 3 == 0 else None)
-        centre = result.boxes[0, :2] + result.boxes[0, 2:] / 2
-        true_centre = truth.boxes[t, 0, :2] + truth.boxes[t, 0, 2:] / 2
-        if t > 3 and moved_at is None and np.linalg.norm(centre - true_centre) < 30:
-            moved_at = t
-    assert moved_at is not None and moved_at >= 3 * tracker.config.long_lost_detections, moved_at
-    final = tracker.result().boxes
-    for i in range(2):  # each box on its own dancer at the end
-        true_centre = truth.boxes[-1, i, :2] + truth.boxes[-1, i, 2:] / 2
-        assert np.linalg.norm(final[i, :2] + final[i, 2:] / 2 - true_centre) < 30
+    for limit in (0.0, 0.1):
+        tracker = MultiDancerTracker(frames[0], truth.boxes[0], MultiTrackerConfig(lost_max_foreground=limit))
+        moved_at, occluded = None, False
+        for t in range(1, 60):
+            if t == 3:
+                d = tracker.dancers[0]
+                d.box, d.tracker.center = parked, (parked[0] + parked[2] / 2, parked[1] + parked[3] / 2)
+                d.stored_histogram = 0.5 * d.stored_histogram + 0.5 * colour_histogram(frames[t], parked)
+            result = tracker.step(frames[t], [tuple(b) for b in truth.boxes[t]] if t % 3 == 0 else None)
+            occluded |= tracker.dancers[0].status == OCCLUDED
+            centre = result.boxes[0, :2] + result.boxes[0, 2:] / 2
+            true_centre = truth.boxes[t, 0, :2] + truth.boxes[t, 0, 2:] / 2
+            if t > 3 and moved_at is None and np.linalg.norm(centre - true_centre) < 30:
+                moved_at = t
+        long_lost = 3 * tracker.config.long_lost_detections
+        if limit:
+            assert occluded and moved_at is not None and moved_at < long_lost, moved_at
+        else:
+            assert not occluded and moved_at is not None and moved_at >= long_lost, moved_at
+        final = tracker.result().boxes
+        for i in range(2):  # each box on its own dancer at the end
+            true_centre = truth.boxes[-1, i, :2] + truth.boxes[-1, i, 2:] / 2
+            assert np.linalg.norm(final[i, :2] + final[i, 2:] / 2 - true_centre) < 30
 
 
 def test_velocity_kept_after_reidentification(tmp_path):
@@ -1890,3 +1899,50 @@ def test_the_dancers_memories_are_histograms_of_their_boxes_shrunk_as_configured
                                    colour_histogram(frame, box, (side, HISTOGRAM_END_SHRINK)))
     assert tracker.looks_like_a_followed_dancer(frame, (130.0, 40.0, 60.0, 160.0))
 
+
+
+def test_a_dancer_whose_tracker_drifted_onto_the_background_is_lost_there():
+    """A clear dancer's tracker can slide onto the floor or wall beside it and follow that for the rest of the clip
+    (hdvr synth seed 2719 ballet: 74 frames tracked on the wall while the dancer, half hidden, stood 80 px on).
+    With ``lost_max_foreground`` (0.1), once no person was detected on its box for ``max_missed_detections``
+    detector frames and fewer than that fraction of its pixels are foreground, the dancer is occluded there, its
+    drift's motion forgotten, and its own tracker's box is no candidate to take it again. Without it, it stays
+    "tracked" on the background."""
+    rng = np.random.default_rng(3)
+    figure = (100.0, 150.0, 60.0, 200.0)
+    frame = _two_colour_frame(rng, [(figure, ((20, 20, 220), (200, 60, 0)))])
+    on_wall = (400.0, 150.0, 60.0, 200.0)
+    results = {}
+    for limit in (0.1, 0.0):
+        tracker = MultiDancerTracker(frame, [figure, on_wall], MultiTrackerConfig(lost_max_foreground=limit))
+        d = tracker.dancers[1]
+        assert not tracker._shows_someone(frame, d, [on_wall], 0.1)[0]
+        assert tracker._shows_someone(frame, tracker.dancers[0], [figure], 0.1)[0]
+        for _ in range(4):  # detector frames without anyone on the drifted box
+            tracker.step(frame, detections=[figure])
+        results[limit] = (d.status, d.lost_on_background, tuple(d.stored_velocity), tracker._own_box_stays(d, d.box))
+    assert results[0.1] == (OCCLUDED, True, (0.0, 0.0), False)
+    assert results[0.0][:2] == (TRACKED, False)
+    assert tracker.dancers[0].status == TRACKED  # the figure, detected, stays tracked either way
+    assert MultiTrackerConfig().lost_max_foreground == 0.1
+
+
+def test_a_long_missed_dancer_whose_box_shows_someone_keeps_its_own_match():
+    """A thin dancer far back that the detector never finds is missed on every detector frame; after
+    ``long_lost_detections`` of them the box's own colour match used to stop counting, and the dancer jumped to
+    any person nearby that matched its memory at all (hdvr synth seed 2741 ballet: 170 px onto a dancer just come
+    out from behind another, 2 identity switches). With ``lost_max_foreground``, a box that still shows someone
+    keeps its own match: the person must match better than the box does by 0.1, as before the long loss."""
+    rng = np.random.default_rng(4)
+    shared = (40, 200, 230)
+    thin, person = (150.0, 150.0, 40.0, 200.0), (300.0, 150.0, 60.0, 200.0)
+    frame = _two_colour_frame(rng, [(thin, ((20, 20, 220), shared)), (person, ((200, 60, 0), shared))])
+    jumped = {}
+    for limit in (0.1, 0.0):
+        tracker = MultiDancerTracker(frame, [thin], MultiTrackerConfig(lost_max_foreground=limit))
+        d = tracker.dancers[0]
+        d.missed = tracker.config.long_lost_detections
+        score = histogram_similarity(colour_histogram(frame, person), d.stored_histogram)
+        assert tracker.config.relocate_min_similarity <= score < tracker._memory_match(d, frame) + 0.1
+        jumped[limit] = tracker._jump_to_detection(d, frame, [person])
+    assert jumped == {0.1: False, 0.0: True}

@@ -31,8 +31,10 @@ detections grow or shrink alike (:meth:`MultiDancerTracker._scale_groups`). A cl
 detected person for ``max_missed_detections`` detector frames in a row may have lost its dancer (e.g. in a jump):
 if a detected person nearby, tracked by no one, matches its stored histogram clearly better than its box does (and
 better than any other dancer's, ``jump_rivals``), the dancer moves there and its tracker restarts; after
-``long_lost_detections`` such frames the box's own match no longer counts, and the recovered box follows the
-detections for ``recovery_frames``.
+``long_lost_detections`` such frames the box's own match no longer counts (unless the box still shows someone,
+``lost_max_foreground``), and the recovered box follows the detections for ``recovery_frames``. When no detected
+person takes it back and its box shows (almost) no foreground, its tracker drifted onto the background: the dancer
+is lost there and looked for like an occluded one.
 Its stored histogram is only updated on frames where no detection is missing on its box.
 
 After Algorithm 2* has chosen each dancer's pose on a detector frame, the *reported* box may reach beyond the
@@ -363,6 +365,10 @@ class MultiTrackerConfig:
     retrack_scale: float = 1.25  # box height this factor off the tracker's template: the tracker restarts
     max_missed_detections: int = 3  # detector frames in a row without a person on a clear dancer's box = lost
     long_lost_detections: int = 8  # detector frames in a row without a person on a clear dancer's box = long lost
+    lost_max_foreground: float = 0.1  # with > 0, a clear dancer without a person on its box for
+    # ``max_missed_detections`` detector frames that no detection could take back (:meth:`_jump_to_detection`), and
+    # whose box holds fewer than this fraction of foreground pixels (:meth:`_shows_someone`), is lost on the
+    # background: it is occluded there (:meth:`_occlude`) and looked for like a dancer hidden behind others
     recovery_frames: int = 30  # frames after such a recovery in which the box restarts on any detection on it
     recovery_height_change: float = 2.5  # ... whose height is within this factor of the box's
     stuck_persist: int = 3  # with N > 0, a clear dancer whose box holds one person alone (on the box: matched, so never
@@ -942,6 +948,14 @@ class MultiDancerTracker(ReportedExtent):
                 if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
                                                                                                   detections):
                     continue
+                if c.lost_max_foreground > 0 and d.missed >= c.max_missed_detections and \
+                        not self._shows_someone(frame, d, [d.box], c.lost_max_foreground)[0]:
+                    # its tracker drifted onto the floor or wall: the dancer is elsewhere, and the motion measured
+                    # there is the drift's
+                    d.stored_velocity = np.zeros(2)
+                    self._occlude(d, [])
+                    d.lost_on_background = True
+                    continue
             if self._inside_fraction(d.box) < c.learn_inside:  # partly out of the frame: memory kept from before
                 if self._leaves_frame(d, frame, t):
                     self._set_out(d)
@@ -1206,13 +1220,17 @@ class MultiDancerTracker(ReportedExtent):
         nobody else tracks, if that person's histogram matches the stored one clearly better than the box does
         (the tracker drifted off, e.g. in a jump). After ``long_lost_detections`` detector frames without a person
         on its box, the box's own match no longer counts (a box left on a static background keeps matching a
-        memory learned there): the person is taken if it matches this dancer's memory at least
-        ``relocate_min_similarity`` and better by ``reid_margin`` than the memory of every other dancer not held
-        by a detection of its own (one that is cannot be this person). With ``jump_rivals``, at any time, it must
-        also match by ``reid_margin`` better than the memory of every other dancer showing its own colours (a
-        person that looks like another dancer is that dancer, lost too, not this one). Returns whether it moved."""
+        memory learned there), unless the box still shows someone (``lost_max_foreground``): the person is taken if
+        it matches this dancer's memory at least ``relocate_min_similarity`` and better by ``reid_margin`` than the
+        memory of every other dancer not held by a detection of its own (one that is cannot be this person). With
+        ``jump_rivals``, at any time, it must also match by ``reid_margin`` better than the memory of every other
+        dancer showing its own colours (a person that looks like another dancer is that dancer, lost too, not this
+        one). Returns whether it moved."""
         c = self.config
-        long_lost = d.missed >= c.long_lost_detections
+        # a box that still shows someone (``lost_max_foreground``) is on a dancer the detector misses (a thin one far
+        # back), not on the background: its own match counts however long no person was detected on it
+        long_lost = d.missed >= c.long_lost_detections and (
+            c.lost_max_foreground <= 0 or not self._shows_someone(frame, d, [d.box], c.lost_max_foreground)[0])
         current = self._memory_match(d, frame)
         others = [o for o in self.dancers if o is not d]
         # dancers the person must match worse (by reid_margin) than this one: when long lost, those not held by a
@@ -1245,7 +1263,7 @@ class MultiDancerTracker(ReportedExtent):
         d.offset = np.zeros(2)
         d.tracker.init(frame, self._core(box))
         d.box, d.missed, d.confidence = tuple(float(v) for v in box), 0, float(np.clip(score, 0, 1))
-        d.detected_at_edge = None
+        d.detected_at_edge, d.lost_on_background = None, False
         d.centers, d.clear_track = [d.body_center], []
         d.stored_box, d.stored_frame = d.box, self.frame_index
 
@@ -1720,7 +1738,10 @@ class MultiDancerTracker(ReportedExtent):
 
     def _own_box_stays(self, d: DancerTrack, own) -> bool:
         """Whether occluded dancer ``d``'s own tracker's box ``own`` (x, y, w, h px) has its bottom within
-        ``own_box_max_shift`` x ``d``'s box height of the bottom of ``d``'s box (always, with the test off)."""
+        ``own_box_max_shift`` x ``d``'s box height of the bottom of ``d``'s box (always, with the test off); never
+        for a dancer lost on the background (``lost_on_background``: its tracker is what drifted there)."""
+        if d.lost_on_background:
+            return False
         limit = self.config.own_box_max_shift
         if limit is None:
             return True
@@ -1786,9 +1807,9 @@ class MultiDancerTracker(ReportedExtent):
         it is a part of a dancer that YOLO drew as a person (e.g. an upper body with spread arms), not ``d``."""
         return box[2] / box[3] > factor * d.box[2] / d.box[3]
 
-    def _shows_someone(self, frame, d: DancerTrack, boxes) -> list[bool]:
-        """For each of ``boxes`` (x, y, w, h px) where occluded dancer ``d`` might be: whether at least
-        ``patch_min_foreground`` of its pixels outside the boxes of the other dancers in the frame (their
+    def _shows_someone(self, frame, d: DancerTrack, boxes, min_foreground: float | None = None) -> list[bool]:
+        """For each of ``boxes`` (x, y, w, h px) where dancer ``d`` might be: whether at least ``min_foreground``
+        (default ``patch_min_foreground``) of its pixels outside the boxes of the other dancers in the frame (their
         foreground is theirs) are foreground. A patch of floor or wall is not a dancer however its colours match
         one's memory (hdvr synth seed 503 ballet: a dancer hidden behind another stopped, its predicted box moved on
         and was taken again on the wall beside them, similarity 0.68). The background colours are sampled outside
@@ -1796,7 +1817,8 @@ class MultiDancerTracker(ReportedExtent):
         would otherwise count as background). True where the background cannot be told or nothing of a box is
         left."""
         c = self.config
-        if c.patch_min_foreground <= 0 or not boxes:
+        min_foreground = c.patch_min_foreground if min_foreground is None else min_foreground
+        if min_foreground <= 0 or not boxes:
             return [True] * len(boxes)
         others = [o.box for o in self.dancers if o is not d and o.status != OUT]
         fg = foreground_mask(frame, others + [d.box] + [tuple(b) for b in boxes], margin=c.pixel_margin,
@@ -1813,7 +1835,7 @@ class MultiDancerTracker(ReportedExtent):
             counted = np.ones((y1 - y0, x1 - x0), bool)
             for b in others_clipped:
                 counted[max(0, b[1] - y0):max(0, b[3] - y0), max(0, b[0] - x0):max(0, b[2] - x0)] = False
-            shows.append(not counted.any() or float(fg[y0:y1, x0:x1][counted].mean()) >= c.patch_min_foreground)
+            shows.append(not counted.any() or float(fg[y0:y1, x0:x1][counted].mean()) >= min_foreground)
         return shows
 
     def _take(self, d: DancerTrack, box, score: float, seen_part: bool = True) -> None:
@@ -1827,6 +1849,7 @@ class MultiDancerTracker(ReportedExtent):
         d.box = tuple(float(v) for v in box)
         d.status = TRACKED
         d.missed, d.detected_at_edge = 0, None
+        d.lost_on_background = False
         d.confidence = float(np.clip(score, 0, 1))
         d.centers = [d.body_center]
         d.clear_track = []

@@ -57,6 +57,9 @@ class DancerTrack:
     found_streak: int = 0  # detector frames in a row, while clear, with a person detected on its box
     stopped_behind: bool = False  # occluded, its predicted box was stopped behind the dancers in front
     # (``MultiTrackerConfig.hold_uncovered_prediction``) and stays there until it is found again
+    lost_on_background: bool = False  # occluded because its tracker drifted onto the background (its box held
+    # no person nor foreground: ``MultiTrackerConfig.lost_max_foreground``); until it is taken again, its own
+    # tracker's box is no candidate
     cover_path: list = field(default_factory=list)  # while occluded: (fraction of its core covered, predicted box px)
     # of the predicted boxes within ``hdvr.tracking.multi.COVER_TIE`` of the best cover so far
     # detections half beside the dancers in front that a dancer waiting behind them could come out on
