@@ -45,6 +45,8 @@ BEFORE_AFTER = (
     (2624, 2, "hip_hop", 3, 60, "emerge_past_waiting", "tracking_emerge_past_waiting_s2624_hip_hop_060.jpg"),
     (2635, 0, "tango", 2, 60, "front_narrows", "tracking_front_narrows_s2635_tango_060.jpg"),
     (2665, 2, "hip_hop", 3, 8, "emerge_own_margin", "tracking_emerge_own_margin_s2665_hip_hop_008.jpg"),
+    (2741, 5, "ballet", 4, 45, "lost_max_foreground", "tracking_lost_max_foreground_s2741_ballet_045.jpg"),
+    (2762, 5, "ballet", 4, 30, "front_follows_feet", "tracking_front_follows_feet_s2762_ballet_030.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (

@@ -1946,3 +1946,35 @@ def test_a_long_missed_dancer_whose_box_shows_someone_keeps_its_own_match():
         assert tracker.config.relocate_min_similarity <= score < tracker._memory_match(d, frame) + 0.1
         jumped[limit] = tracker._jump_to_detection(d, frame, [person])
     assert jumped == {0.1: False, 0.0: True}
+
+
+def test_a_dancer_in_front_follows_the_person_whose_feet_are_lowest_when_a_stack_parts():
+    """Two dancers start in a stack, one waiting hidden straight behind the other. The front dancer's tracker
+    learned both, and as they part it can follow the one behind (hdvr synth seed 2762 ballet: the front dancer's
+    box went with the dancer behind her and the two were swapped for the rest of the clip, 2 switches). With
+    ``front_follows_feet`` (0.05), when two people are detected on its box, the front dancer restarts on the one
+    whose feet are lowest, nearest the camera, if its box has slid off that one; not when its box is on it, nor
+    when the feet are level within 0.05 box heights, nor on a box around two people (D 2719 hip-hop: 0.958 -> 0.564
+    when such a box, 1.5 x the dancer's height, counted)."""
+    rng = np.random.default_rng(6)
+    frame = _two_colour_frame(rng, [((280.0, 180.0, 120.0, 260.0), ((60, 170, 80), (170, 40, 170)))])
+    in_front, behind = (300.0, 185.0, 120.0, 255.0), (235.0, 120.0, 70.0, 230.0)  # feet at 440 and 350 px
+    slid = (230.0, 180.0, 120.0, 260.0)
+
+    def follows(limit: float, box, people) -> tuple[bool, tuple]:
+        tracker = _waiting_behind(frame, MultiTrackerConfig(front_follows_feet=limit))
+        front = tracker.dancers[1]
+        front.box = box
+        return tracker._follow_front_feet(front, frame, people), front.box
+
+    moved, box = follows(0.05, slid, [behind, in_front])
+    assert moved and box_iou(box, in_front) > 0.7 and box[1] + box[3] > 430
+    assert follows(0.0, slid, [behind, in_front]) == (False, slid)  # off: the box stays where it slid
+    assert follows(0.05, (295.0, 182.0, 120.0, 258.0), [behind, in_front])[0] is False  # already on it
+    level = (235.0, 205.0, 70.0, 230.0)  # feet at 435 px, within 0.05 x 260 of 440
+    assert follows(0.05, slid, [level, in_front])[0] is False
+    assert follows(0.05, slid, [in_front])[0] is False  # one person: nothing parts
+    around_both = (230.0, 140.0, 190.0, 340.0)  # feet lowest, but 1.3 x the box's height: a box around two people
+    moved, box = follows(0.05, slid, [behind, around_both, in_front])
+    assert moved and box_iou(box, in_front) > 0.7
+    assert MultiTrackerConfig().front_follows_feet == 0.05

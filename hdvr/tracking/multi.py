@@ -306,6 +306,10 @@ class MultiTrackerConfig:
     # while the dancer, arms in, was 70, and the dancer waiting behind took her detection (0.633 -> 0.983). Session
     # 51, with hindsight's 30-frame walk: fresh clips (seeds 2601-2640) failing 12 -> 10, (2641-2680) 6 -> 6, tuned
     # 15 -> 16 (docs/benchmarks.md "session 51")
+    front_follows_feet: float = 0.05  # with > 0, a dancer with a dancer waiting straight behind it, when two or
+    # more people of its height are detected on its box, restarts on the one whose feet are lowest (nearest the
+    # camera: the one in front) if its box has slid off that one (IoU < 0.5) and its feet are this x its box height
+    # below every other's (:meth:`MultiDancerTracker._follow_front_feet`)
     max_occlusion_frames: int = 150  # after this many frames occluded, relocate to the best candidate anyway
     overlap_margin_frames: int = 2  # relocation starts this many frames after the predicted end of the overlap
     adapt_min_iou: float = 0.4  # a detection adapts a dancer's box only if it overlaps it this much (IoU)
@@ -920,7 +924,9 @@ class MultiDancerTracker(ReportedExtent):
                     self._set_out(d, d.detected_at_edge)
                     continue
                 stuck = False
-                if len(matches) == 1 and t <= d.recovering_until and \
+                if fronting and self._follow_front_feet(d, frame, detections):
+                    d.adapted_at = t  # two people part on its box: it follows the one in front
+                elif len(matches) == 1 and t <= d.recovering_until and \
                         self._single_person(d, matches[0], c.recovery_height_change):
                     # just recovered, moving fast and changing shape (e.g. a flip): follow the detector
                     self._restart(d, frame, matches[0], d.confidence)
@@ -1287,6 +1293,32 @@ class MultiDancerTracker(ReportedExtent):
         return self._person_sized(d, detection, max_height_change) and \
             all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold for o in self.dancers
                 if o is not d and not self._clear_of_waiting(d, o))
+
+    def _follow_front_feet(self, d: DancerTrack, frame, detections) -> bool:
+        """With ``front_follows_feet``, dancer ``d``, with a dancer waiting straight behind it, restarts on the
+        person detected on its box (overlap > 0.3) whose feet are lowest, when two or more are: the one in front is
+        nearest the camera. People count if their height is within ``reid_height_change`` of ``d``'s box (a box
+        around two people reaches lowest too) and no other dancer followed holds them (IoU >= 0.5). Only if ``d``'s
+        box has slid off that person (IoU < 0.5), e.g. its tracker, which learned both dancers from the start,
+        follows the one behind as they part. Returns whether it restarted."""
+        c = self.config
+        if c.front_follows_feet <= 0:
+            return False
+        others = [o.box for o in self.dancers if o is not d and o.status == TRACKED and o.hidden_behind is None]
+        people = [tuple(float(v) for v in det) for det in detections
+                  if box_overlap(d.box, det) > 0.3 and self._person_sized(d, det, c.reid_height_change)
+                  and all(box_iou(det, o) < 0.5 for o in others)]
+        if len(people) < 2:
+            return False
+        people.sort(key=lambda b: b[1] + b[3], reverse=True)
+        front, second = people[0], people[1]
+        if front[1] + front[3] - (second[1] + second[3]) < c.front_follows_feet * d.box[3] or \
+                box_iou(d.box, front) >= 0.5:
+            return False
+        w, h = self._detected_size(d, front)
+        cx, cy = box_centre(front)
+        self._restart(d, frame, (cx - w / 2, cy - h / 2, float(w), float(h)), d.confidence)
+        return True
 
     def _clear_of_waiting(self, d: DancerTrack, o: DancerTrack) -> bool:
         """With ``front_of_waiting_clear``, whether dancer ``d`` counts as clear of dancer ``o``, which overlaps it:
