@@ -1978,3 +1978,46 @@ def test_a_dancer_in_front_follows_the_person_whose_feet_are_lowest_when_a_stack
     moved, box = follows(0.05, slid, [behind, around_both, in_front])
     assert moved and box_iou(box, in_front) > 0.7
     assert MultiTrackerConfig().front_follows_feet == 0.05
+
+
+def test_a_person_coming_out_of_a_chain_is_offered_first_to_the_dancer_hidden_by_one():
+    """Three dancers start in a chain: dancer 0 waits behind dancer 1, who waits behind dancer 2, followed. A person
+    comes out beside them, unlike dancer 2. Dancer 1 is hidden by one dancer, dancer 0 by two: with
+    ``emerge_front_first`` the person is offered to dancer 1 first; before, the dancers' numbers decided and dancer
+    0 took her (hdvr synth G 2766 ballet: 5 switches)."""
+    rng = np.random.default_rng(11)
+    front_box, middle, back = (280.0, 180.0, 120.0, 260.0), (300.0, 150.0, 70.0, 230.0), (310.0, 130.0, 60.0, 200.0)
+    person = (170.0, 160.0, 65.0, 220.0)
+    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
+    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
+    later = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (blue, yellow))])
+    came_out = {}
+    for first in (True, False):
+        tracker = MultiDancerTracker(frame, [back, middle, front_box], MultiTrackerConfig(emerge_front_first=first))
+        d_back, d_middle, d_front = tracker.dancers
+        d_back.hidden_behind, d_middle.hidden_behind, d_front.hidden_behind = 1, 2, None
+        tracker._emerge(later, [front_box, person])
+        came_out[first] = [d.dancer_id for d in (d_back, d_middle) if d.hidden_behind is None]
+    assert came_out == {True: [1], False: [0]}
+    assert MultiTrackerConfig().emerge_front_first
+
+
+def test_a_waiting_dancer_seen_side_on_comes_out_facing_the_camera():
+    """``emerge_max_aspect`` refuses a detection more than 2 x as wide for its height as the waiting dancer's box (a
+    part of a dancer drawn as a person). A start box seen side-on is thin (hdvr synth G 2766 ballet: 38 x 143 px,
+    0.27), and the dancer, turning to the camera as she came out, was "too wide" (0.54). With
+    ``emerge_min_aspect`` (0.3) the box counts as at least that wide: she comes out; a spread arm (0.93) still
+    does not."""
+    rng = np.random.default_rng(12)
+    front_box, thin = (280.0, 180.0, 120.0, 260.0), (320.0, 120.0, 45.0, 200.0)  # aspect 0.225
+    person, wide = (150.0, 130.0, 110.0, 200.0), (150.0, 120.0, 130.0, 140.0)  # aspects 0.55 and 0.93
+    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
+    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
+    for box, min_aspect, emerged in ((person, 0.3, True), (person, 0.0, False), (wide, 0.3, False)):
+        later = _two_colour_frame(rng, [(front_box, (green, magenta)), (box, (blue, yellow))])
+        tracker = MultiDancerTracker(frame, [thin, front_box], MultiTrackerConfig(emerge_min_aspect=min_aspect))
+        waiting = tracker.dancers[0]
+        assert waiting.hidden_behind == 1
+        tracker._emerge(later, [front_box, box])
+        assert (waiting.hidden_behind is None) == emerged, (box, min_aspect)
+    assert MultiTrackerConfig().emerge_min_aspect == 0.3

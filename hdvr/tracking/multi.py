@@ -252,6 +252,12 @@ class MultiTrackerConfig:
     # walked away; the first, seen whole and detected for 90 frames, never came out because the second's box, still
     # at the start, lay on her). The dancer hiding this one still stands in the way when it waits itself (a stack of
     # three: seed 2507 flamenco, the dancer at the back took the middle one's detection, 0.967 -> 0.800)
+    emerge_front_first: bool = True  # a person coming out is offered first to the dancers waiting behind a dancer
+    # followed, then to those waiting behind a dancer who waits too (a chain: that one is hidden by two, the first by
+    # one); before, in the order of the dancers' numbers (hdvr synth G 2766 ballet: dancer 1, behind dancer 2 behind
+    # dancer 3, took dancer 2 as she came out, 5 switches)
+    emerge_min_aspect: float = 0.3  # ``emerge_max_aspect`` counts a waiting dancer's box as at least this wide for its
+    # height (a start box seen side-on, 0.27, made a dancer turning to the camera as she came out "too wide")
     hidden_front_rival: bool = True  # while such a dancer waits, the dancer hiding it is one more rival when it is
     # re-identified (its memory shows that dancer: a patch of it would match). Cached synthetic clips: seeds 201-212
     # and 151-199 mean IDF1 0.9578 -> 0.9585, identity switches 23 -> 15; seeds 7-139 and groups of 6-8 unchanged
@@ -1911,6 +1917,8 @@ class MultiDancerTracker(ReportedExtent):
         waiting = self.waiting()
         if not waiting:
             return
+        if c.emerge_front_first:  # those hidden by one dancer before those hidden by a dancer who waits too
+            waiting.sort(key=lambda d: self.dancers[d.hidden_behind].hidden_behind is not None)
         dets = [tuple(float(v) for v in det) for det in detections]
         holders = [o for o in self.dancers if o.status == TRACKED and o.hidden_behind is None]
         taken = {k for _, k in self._fit_assignment([o.box for o in holders], dets)[1]} if holders else set()
@@ -1935,7 +1943,7 @@ class MultiDancerTracker(ReportedExtent):
                 d.beside_now, d.beside_frame = [], self.frame_index
             for k, det in enumerate(dets):
                 if k in taken or not _height_within(det, d.box, c.max_height_change) \
-                        or self._wider_than(det, d, c.emerge_max_aspect):
+                        or det[2] / det[3] > c.emerge_max_aspect * max(d.box[2] / d.box[3], c.emerge_min_aspect):
                     continue
                 distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
                 if distance > best_distance:
