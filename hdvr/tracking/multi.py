@@ -1898,12 +1898,14 @@ class MultiDancerTracker(ReportedExtent):
         one that no other dancer takes (one assignment on :meth:`_fit_score` of the detections to the tracked
         dancers not waiting so), whose body core overlaps no other dancer's (``overlap_threshold``), whose centre
         lies within ``emerge_distance`` box heights of the dancer's box centre, whose height is within
-        ``max_height_change`` of the box's, whose width / height is at most ``emerge_max_aspect`` x the box's (a
-        wider one is a part of a dancer drawn as a person), and whose colours match the hiding dancer's memory less than
-        ``reid_similarity`` (or, ``emerge_relative``, by ``reid_margin`` less than the hiding dancer's box does
-        now) and that does not plainly show another dancer whose colours are known (:meth:`_shows_known_dancer`);
-        the nearest such detection. The dancer's box moves there (unless it already overlaps it by IoU 0.5,
-        or more; keeping its height when the detection is shorter, ``emerge_keeps_height``), and it learns its
+        ``max_height_change`` of the box's, whose width / height is at most ``emerge_max_aspect`` x the box's,
+        counted at least ``emerge_min_aspect`` (a wider one is a part of a dancer drawn as a person), and whose
+        colours match the hiding dancer's memory less than ``reid_similarity`` (or, ``emerge_relative``, by
+        ``reid_margin`` less than the hiding dancer's box does now) and that does not plainly show another dancer
+        whose colours are known (:meth:`_shows_known_dancer`); the nearest such detection; with
+        ``emerge_front_first`` the dancers waiting behind a dancer followed choose before those waiting behind a
+        dancer who waits too. The dancer's box moves there (unless it already overlaps it by IoU 0.5, or more;
+        keeping its height when the detection is shorter, ``emerge_keeps_height``), and it learns its
         colours from it, replacing those of the dancer in front: it no longer waits. With ``emerge_beside_persist``
         N, a detection whose body core overlaps other dancers' less than ``emerge_beside_overlap`` counts too, when
         its colours match each of their memories less than ``emerge_beside_similarity`` and such a detection lay on it
