@@ -957,11 +957,13 @@ class MultiDancerTracker(ReportedExtent):
                 d.stuck = d.stuck + 1 if stuck else 0
                 if c.stuck_persist and d.stuck >= c.stuck_persist:
                     self._restart_on_stuck(d, frame, matches[0])
-                if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(d, frame,
-                                                                                                  detections):
+                # a box missed that long and showing (almost) no foreground lies on the floor or wall
+                on_background = c.lost_max_foreground > 0 and d.missed >= c.max_missed_detections and \
+                    not self._shows_someone(frame, d, [d.box], c.lost_max_foreground)[0]
+                if d.missed >= c.max_missed_detections and detections and self._jump_to_detection(
+                        d, frame, detections, on_background):
                     continue
-                if c.lost_max_foreground > 0 and d.missed >= c.max_missed_detections and \
-                        not self._shows_someone(frame, d, [d.box], c.lost_max_foreground)[0]:
+                if on_background:
                     # its tracker drifted onto the floor or wall: the dancer is elsewhere, and the motion measured
                     # there is the drift's
                     d.stored_velocity = np.zeros(2)
@@ -1227,7 +1229,7 @@ class MultiDancerTracker(ReportedExtent):
             matches.append((d, box, score))
         return matches
 
-    def _jump_to_detection(self, d: DancerTrack, frame, detections) -> bool:
+    def _jump_to_detection(self, d: DancerTrack, frame, detections, on_background: bool | None = None) -> bool:
         """A dancer whose box has held no detected person for a while moves to a detected person nearby that
         nobody else tracks, if that person's histogram matches the stored one clearly better than the box does
         (the tracker drifted off, e.g. in a jump). After ``long_lost_detections`` detector frames without a person
@@ -1237,12 +1239,14 @@ class MultiDancerTracker(ReportedExtent):
         memory of every other dancer not held by a detection of its own (one that is cannot be this person). With
         ``jump_rivals``, at any time, it must also match by ``reid_margin`` better than the memory of every other
         dancer showing its own colours (a person that looks like another dancer is that dancer, lost too, not this
-        one). Returns whether it moved."""
+        one). ``on_background``: whether the box shows less than ``lost_max_foreground`` foreground, if the caller
+        measured it already. Returns whether it moved."""
         c = self.config
         # a box that still shows someone (``lost_max_foreground``) is on a dancer the detector misses (a thin one far
         # back), not on the background: its own match counts however long no person was detected on it
-        long_lost = d.missed >= c.long_lost_detections and (
-            c.lost_max_foreground <= 0 or not self._shows_someone(frame, d, [d.box], c.lost_max_foreground)[0])
+        long_lost = d.missed >= c.long_lost_detections and (c.lost_max_foreground <= 0 or (
+            on_background if on_background is not None
+            else not self._shows_someone(frame, d, [d.box], c.lost_max_foreground)[0]))
         current = self._memory_match(d, frame)
         others = [o for o in self.dancers if o is not d]
         # dancers the person must match worse (by reid_margin) than this one: when long lost, those not held by a
@@ -1285,10 +1289,15 @@ class MultiDancerTracker(ReportedExtent):
         onto it (centred there, at the dancer's box-to-detection size, :meth:`_box_size`) and its tracker restarts
         there. Its colour memory and stored velocity are kept (no re-identification happens; :meth:`_restart`
         touches neither)."""
+        self._restart_on_detection(d, frame, detection)
+        d.stuck, d.adapted_at = 0, self.frame_index
+
+    def _restart_on_detection(self, d: DancerTrack, frame, detection) -> None:
+        """Dancer ``d``'s box moves onto ``detection`` (x, y, w, h px: centred there, at the dancer's box-to-detection
+        size, :meth:`_detected_size`) and its tracker restarts there (:meth:`_restart`)."""
         w, h = self._detected_size(d, detection)
         cx, cy = box_centre(detection)
         self._restart(d, frame, (cx - w / 2, cy - h / 2, float(w), float(h)), d.confidence)
-        d.stuck, d.adapted_at = 0, self.frame_index
 
     def _single_person(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
         """Whether ``detection`` can be dancer ``d`` alone: its body core overlaps no other dancer's, its height
@@ -1321,9 +1330,7 @@ class MultiDancerTracker(ReportedExtent):
         if front[1] + front[3] - (second[1] + second[3]) < c.front_follows_feet * d.box[3] or \
                 box_iou(d.box, front) >= 0.5:
             return False
-        w, h = self._detected_size(d, front)
-        cx, cy = box_centre(front)
-        self._restart(d, frame, (cx - w / 2, cy - h / 2, float(w), float(h)), d.confidence)
+        self._restart_on_detection(d, frame, front)
         return True
 
     def _clear_of_waiting(self, d: DancerTrack, o: DancerTrack) -> bool:
@@ -1840,10 +1847,11 @@ class MultiDancerTracker(ReportedExtent):
                    for o in self.dancers if o is not d and o.status != OUT)
 
     @staticmethod
-    def _wider_than(box, d: DancerTrack, factor: float) -> bool:
-        """Whether ``box`` (x, y, w, h px) is more than ``factor`` x as wide for its height as dancer ``d``'s box: then
-        it is a part of a dancer that YOLO drew as a person (e.g. an upper body with spread arms), not ``d``."""
-        return box[2] / box[3] > factor * d.box[2] / d.box[3]
+    def _wider_than(box, d: DancerTrack, factor: float, min_aspect: float = 0.0) -> bool:
+        """Whether ``box`` (x, y, w, h px) is more than ``factor`` x as wide for its height as dancer ``d``'s box,
+        counted at least ``min_aspect`` wide for its height: then it is a part of a dancer that YOLO drew as a person
+        (e.g. an upper body with spread arms), not ``d``."""
+        return box[2] / box[3] > factor * max(d.box[2] / d.box[3], min_aspect)
 
     def _shows_someone(self, frame, d: DancerTrack, boxes, min_foreground: float | None = None) -> list[bool]:
         """For each of ``boxes`` (x, y, w, h px) where dancer ``d`` might be: whether at least ``min_foreground``
@@ -1945,7 +1953,7 @@ class MultiDancerTracker(ReportedExtent):
                 d.beside_now, d.beside_frame = [], self.frame_index
             for k, det in enumerate(dets):
                 if k in taken or not _height_within(det, d.box, c.max_height_change) \
-                        or det[2] / det[3] > c.emerge_max_aspect * max(d.box[2] / d.box[3], c.emerge_min_aspect):
+                        or self._wider_than(det, d, c.emerge_max_aspect, c.emerge_min_aspect):
                     continue
                 distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
                 if distance > best_distance:
