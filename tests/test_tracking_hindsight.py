@@ -5,12 +5,10 @@ import numpy as np
 import pytest
 
 from hdvr.tracking.hindsight import (HIDDEN_FEET_TOLERANCE, HIDDEN_FILL_WEIGHT, MIN_SEEN_AFTER, START_OFFSET_WEIGHT,
-                                     START_PLACE_WEIGHT, keep_start_place,
-                                     HindsightSettings, apply_hindsight, fill_hidden_until_seen,
-                                     enclose_keypoints,
-                                     fill_occluded, hold_last_seen, interpolate_boxes, keep_start_offset,
-                                     keep_feet_behind_front, occluded_stretches, smooth_boxes, start_feet,
-                                     start_offsets, trim_above_pose)
+                                     START_PLACE_WEIGHT, HindsightSettings, apply_hindsight,
+                                     enclose_keypoints, fill_hidden_until_seen, fill_occluded, hold_last_seen,
+                                     interpolate_boxes, keep_feet_behind_front, keep_start_offset, keep_start_place,
+                                     occluded_stretches, smooth_boxes, start_feet, start_offsets, trim_above_pose)
 
 
 def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
@@ -293,14 +291,14 @@ def test_a_stretch_not_seen_after_holds_the_box_where_the_dancer_was_last_seen()
     _, filled = fill_occluded(boxes, status)
     assert not filled.any()  # nothing seen after: nothing filled
     boxes[11, 0] = np.nan  # predicted out of the frame on the last one
-    out, held = hold_last_seen(boxes, status, filled)
+    out, held = hold_last_seen(boxes, status, filled, min_cover=0.0)  # no dancer in front here: the plain hold
     np.testing.assert_array_equal(out[6:11, 0], np.tile(boxes[5, 0], (5, 1)))
     assert np.isnan(out[11, 0]).all()
     np.testing.assert_array_equal(held[:, 0], [False] * 6 + [True] * 5 + [False])
     np.testing.assert_array_equal(out[:6], boxes[:6])
     both = _status(12, occluded=range(3, 6))
     refilled, mask = fill_occluded(_walk(12), both)
-    out, held = hold_last_seen(refilled, both, mask)  # seen again after: filled, not held
+    out, held = hold_last_seen(refilled, both, mask, min_cover=0.0)  # seen again after: filled, not held
     np.testing.assert_array_equal(out, refilled)
     assert not held.any()
 
@@ -312,10 +310,10 @@ def test_a_held_stretch_mixes_in_the_online_prediction_by_the_hold_weight():
     status = _status(12, occluded=range(6, 12))
     filled = np.zeros((12, 1), bool)
     for weight in (1.0, 0.5, 0.0):
-        out, held = hold_last_seen(boxes, status, filled, weight=weight)
+        out, held = hold_last_seen(boxes, status, filled, weight=weight, min_cover=0.0)
         np.testing.assert_allclose(out[6:, 0], weight * boxes[5, 0] + (1 - weight) * boxes[6:, 0])
         assert held[6:, 0].all()
-    settings = HindsightSettings(hold_weight=0.0, amodal_boxes=False, smooth_window=1)
+    settings = HindsightSettings(hold_weight=0.0, amodal_boxes=False, smooth_window=1, hold_min_cover=0.0)
     online = apply_hindsight(boxes, status, np.full((12, 1, 25, 3), np.nan), settings=settings)[0]
     np.testing.assert_allclose(online[6:, 0], boxes[6:, 0])
 
@@ -330,7 +328,7 @@ def test_a_stretch_the_tracker_stopped_behind_the_dancers_in_front_keeps_its_onl
     filled = np.zeros((12, 2), bool)
     stopped = np.zeros((12, 2), bool)
     stopped[9:, 0] = True  # dancer 0 stopped on frame 9 of its stretch 6-11
-    out, held = hold_last_seen(boxes, status, filled, stopped=stopped)
+    out, held = hold_last_seen(boxes, status, filled, stopped=stopped, min_cover=0.0)
     np.testing.assert_array_equal(out[:, 0], boxes[:, 0])  # the whole stretch online, also before the stop
     assert not held[:, 0].any()
     np.testing.assert_array_equal(out[4:, 1], np.tile(boxes[3, 1], (8, 1)))  # not stopped: held
@@ -338,8 +336,35 @@ def test_a_stretch_the_tracker_stopped_behind_the_dancers_in_front_keeps_its_onl
         hold_last_seen(boxes, status, filled, stopped=np.zeros((12, 1), bool))
     keypoints = np.full((12, 2, 25, 3), np.nan)
     for keep, expected in ((True, boxes[6:, 0]), (False, np.tile(boxes[5, 0], (6, 1)))):
-        settings = HindsightSettings(keep_stopped=keep, amodal_boxes=False, smooth_window=1)
+        settings = HindsightSettings(keep_stopped=keep, amodal_boxes=False, smooth_window=1, hold_min_cover=0.0)
         written = apply_hindsight(boxes, status, keypoints, settings=settings, stopped_behind=stopped)[0]
+        np.testing.assert_allclose(written[6:, 0], expected)
+
+
+def test_a_stretch_whose_last_seen_place_comes_open_to_view_keeps_its_online_boxes():
+    """``min_cover``: a stretch is held only while the place the dancer was last seen stays behind the dancers
+    followed in front (its body core at least ``min_cover`` inside theirs) in every frame of it. Where the dancer in
+    front walks off and leaves that place open, the dancer would have been seen there, so it walked on: the online
+    prediction is kept (the procedural crossings of ``bench_track.py --sections identity``, figures walking on
+    behind another and never found again, were held where they went behind). Through :func:`apply_hindsight` that is
+    ``HindsightSettings.hold_min_cover``."""
+    frames = 12
+    hidden = _walk(frames)[:, 0]  # dancer 0 walks right, occluded from frame 6 to the end
+    front_stays = np.tile(hidden[5], (frames, 1))  # dancer 1 stands on the place dancer 0 was last seen
+    front_walks = front_stays.copy()
+    front_walks[9:, 0] -= 150  # ... or walks off it on frame 9
+    status = [a + ("tracked",) for a in _status(frames, occluded=range(6, frames))]
+    filled = np.zeros((frames, 2), bool)
+    for front, held_expected in ((front_stays, True), (front_walks, False)):
+        boxes = np.stack([hidden, front], axis=1)
+        out, held = hold_last_seen(boxes, status, filled)  # HOLD_MIN_COVER
+        expected = np.tile(hidden[5], (6, 1)) if held_expected else hidden[6:]
+        np.testing.assert_array_equal(out[6:, 0], expected)
+        assert held[6:, 0].all() == held_expected
+        off = hold_last_seen(boxes, status, filled, min_cover=0.0)[0]
+        np.testing.assert_array_equal(off[6:, 0], np.tile(hidden[5], (6, 1)))  # off: held either way
+        settings = HindsightSettings(amodal_boxes=False, smooth_window=1)
+        written = apply_hindsight(boxes, status, np.full((frames, 2, 25, 3), np.nan), settings=settings)[0]
         np.testing.assert_allclose(written[6:, 0], expected)
 
 

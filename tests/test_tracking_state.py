@@ -3,7 +3,7 @@
 import numpy as np
 
 from hdvr.tracking.appearance import colour_histogram, histogram_similarity
-from hdvr.tracking.state import TRACKED, DancerTrack, box_at, box_centre, stands_in_front
+from hdvr.tracking.state import TRACKED, DancerTrack, box_at, box_centre, covered_fraction, stands_in_front
 
 
 def test_box_at_keeps_the_size_and_centres_it():
@@ -62,3 +62,18 @@ def test_a_box_stands_in_front_when_its_bottom_is_lower_by_the_margin_of_the_oth
     assert stands_in_front((90.0, 120.0, 60.0, 191.0), behind, 0.05)  # bottom 311
     assert not stands_in_front((90.0, 120.0, 60.0, 190.0), behind, 0.05)  # bottom 310: level
     assert not stands_in_front(behind, (90.0, 120.0, 60.0, 191.0), 0.05)
+
+
+def test_covered_fraction_is_the_share_of_the_body_core_inside_the_others_body_cores():
+    """Body cores at most 0.3 x the box height wide: a box of 100 x 200 px has its core at x 120-180. A narrow front
+    (its core is all of it) over the core's left half covers half of it, two over both halves all of it, one half as
+    tall a quarter; a front's spread arms (box wider than its core) do not cover; NaN rows and no fronts cover
+    nothing."""
+    box = (100.0, 0.0, 100.0, 200.0)
+    assert covered_fraction(box, [box], 0.3) == 1.0
+    assert covered_fraction(box, [(90.0, 0.0, 60.0, 200.0)], 0.3) == 0.5  # x 90-150
+    assert covered_fraction(box, [(90.0, 0.0, 60.0, 200.0), (150.0, 0.0, 60.0, 200.0)], 0.3) == 1.0
+    assert covered_fraction(box, [(120.0, 0.0, 30.0, 100.0)], 0.3) == 0.25  # x 120-150, the upper half
+    assert covered_fraction(box, [(-100.0, 0.0, 260.0, 200.0)], 0.3) == 0.0  # core x 0-60: arms reach over it
+    assert covered_fraction(box, np.full((1, 4), np.nan), 0.3) == 0.0
+    assert covered_fraction(box, [], 0.3) == 0.0

@@ -28,7 +28,13 @@ others has mostly stopped there (it would show again had it moved on). 936 hdvr 
 or with a switch 51 -> 45, mean 0.9807 -> 0.9814; hdvr synth seed 712 hip-hop quartet 0.840 -> 0.983
 (docs/benchmarks.md "session 33"). A stretch in which the online tracker stopped the dancer's predicted box behind
 the dancers in front (``stopped``: it ran on only while hidden, then stayed where the dancer was hidden best;
-``MultiTrackerConfig.hold_uncovered_prediction``) keeps its online boxes (session 57).
+``MultiTrackerConfig.hold_uncovered_prediction``) keeps its online boxes (session 57). So does a stretch in some
+frame of which the place the dancer was last seen lies open to view (``min_cover``, 0.5: less than half its body
+core behind the body cores of the dancers followed): the dancer would have been seen there, so it walked on, and the
+online prediction says where (session 59: the procedural crossings of ``scripts/bench_track.py --sections
+identity``, figures that walk on behind another and are never found again, failing 17 -> 5 of 72 and identity
+switches 11 -> 2, tracker alone and with the detector; hdvr synth sets D, F, G, H unchanged but for one clip, 1.000
+-> 0.992).
 
 :func:`enclose_keypoints`: each box of a dancer seen (``tracked``) is widened, left and right, to enclose the
 keypoints written for it (those of the pose Algorithm 2* chose, interpolated between detector frames), plus
@@ -121,12 +127,20 @@ from scipy.ndimage import uniform_filter1d
 
 from hdvr.io.keypoints2d import BODY25_NAMES
 from hdvr.tracking.amodal import refine_boxes
-from hdvr.tracking.state import HIDDEN, OCCLUDED, TRACKED
+from hdvr.tracking.state import HIDDEN, OCCLUDED, TRACKED, covered_fraction
 
 #: frames in a row a dancer must be seen after a stretch occluded for the stretch to be filled towards it
 #: (chosen on 936 hdvr synth clips: 3 and 5 frames gave 67 and 68 clips below IDF1 0.9 or with a switch, 72 without
 #: hindsight; docs/benchmarks.md "session 31")
 MIN_SEEN_AFTER = 3
+#: body cores (:func:`hdvr.tracking.state.body_core`) at most this x the box height wide, as the online tracker's
+#: ``MultiTrackerConfig.core_aspect``
+CORE_ASPECT = 0.3
+#: the fraction of the body core of the box where a dancer was last seen that must lie behind the body cores of the
+#: dancers followed in every frame of an occluded stretch for :func:`hold_last_seen` to hold it there (session 59;
+#: 0.4, 0.5 and 0.6 gave the same 5 of 72 procedural crossings failing, 17 without; on hdvr synth sets D, F, G, H
+#: 0.5 moved one clip, 0.6 two: docs/benchmarks.md "session 59")
+HOLD_MIN_COVER = 0.5
 #: how far a dancer's body reaches beyond its outermost keypoint, in box heights (:func:`enclose_keypoints`). Measured
 #: (``scripts/measure_keypoint_reach.py``): on dancers of hdvr synth clips seen whole, the ground-truth box's sides lie
 #: beyond YOLO11n-pose's outermost keypoints by a median 0.08 of its height (quartiles 0.07 and 0.11; 10,739
@@ -247,15 +261,18 @@ def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTE
 
 
 def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float = 1.0,
-                   stopped: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                   stopped: np.ndarray | None = None,
+                   min_cover: float = HOLD_MIN_COVER) -> tuple[np.ndarray, np.ndarray]:
     """Hold the box where each dancer was last seen through each ``occluded`` stretch that starts right after a frame
     it was seen (``tracked``) and that :func:`fill_occluded` did not fill (``filled``, its (T, N) mask); module
     docstring. ``boxes`` (T, N, 4) px, NaN where absent or out (those frames stay so). ``weight``: the held box is
     ``weight`` x the box last seen + (1 - ``weight``) x the online prediction of that frame (1: held; measured lower in
     session 56: docs/benchmarks.md). ``stopped``: optional (T, N) bool, the frames in which the online tracker had
     stopped the dancer's predicted box behind the dancers in front (``TrackRun.stopped_behind``); a stretch with any
-    such frame keeps its online boxes (they ran on only while hidden). Returns the new boxes and a (T, N) bool mask
-    of the frames held. The input is not changed."""
+    such frame keeps its online boxes (they ran on only while hidden). ``min_cover``: so does a stretch in any frame
+    of which less than this fraction of the body core of the box last seen lies inside the body cores of the other
+    dancers seen (``tracked``) then (:func:`covered_fraction`): that place lay open to view, so the dancer was not
+    there; 0: off. Returns the new boxes and a (T, N) bool mask of the frames held. The input is not changed."""
     boxes, status = _checked(boxes, status)
     filled = np.asarray(filled, bool)
     if filled.shape != boxes.shape[:2]:
@@ -275,6 +292,11 @@ def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float 
                 continue  # the tracker kept it behind the dancers in front: its online boxes say where
             stretch = np.arange(first, last + 1)
             stretch = stretch[np.isfinite(boxes[stretch, i]).all(axis=1)]
+            if min_cover > 0 and any(
+                    covered_fraction(seen, [boxes[t, j] for j in range(boxes.shape[1])
+                                            if j != i and status[t, j] == TRACKED], CORE_ASPECT) < min_cover
+                    for t in stretch):
+                continue  # where it was last seen lies open to view in some frame: it is not there
             out[stretch, i] = weight * seen + (1.0 - weight) * boxes[stretch, i]
             held[stretch, i] = True
     return out, held
@@ -545,7 +567,8 @@ class HindsightSettings:
     ``hidden_fill_weight`` and ``start_place_weight`` fractions, ``hidden_feet_tolerance`` in box heights (``inf``:
     off). ``hold_weight``: the share of the box last seen in a held stretch (:func:`hold_last_seen`), the rest the
     online prediction; ``keep_stopped``: a stretch in which the online tracker stopped the dancer behind the
-    dancers in front keeps its online boxes (:func:`hold_last_seen`'s ``stopped``). ``amodal_boxes``: end with
+    dancers in front keeps its online boxes (:func:`hold_last_seen`'s ``stopped``), and so does one in which the place
+    last seen lies open to view (``hold_min_cover``, :func:`hold_last_seen`'s ``min_cover``). ``amodal_boxes``: end with
     :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at ``amodal_weights`` ("": the shipped ones)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
@@ -559,6 +582,7 @@ class HindsightSettings:
     start_place_weight: float = START_PLACE_WEIGHT
     hold_weight: float = 1.0
     keep_stopped: bool = True
+    hold_min_cover: float = HOLD_MIN_COVER
     amodal_boxes: bool = True
     amodal_weights: str = ""
 
@@ -582,7 +606,7 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     offsets, feet = start_offsets(online, hidden_starts), start_feet(online, hidden_starts)
     boxes, filled = fill_occluded(boxes, status, min_seen_after=s.min_seen_after)
     boxes = hold_last_seen(boxes, status, filled, weight=s.hold_weight,
-                           stopped=stopped_behind if s.keep_stopped else None)[0]
+                           stopped=stopped_behind if s.keep_stopped else None, min_cover=s.hold_min_cover)[0]
     boxes = enclose_keypoints(boxes, status, keypoints, reach=s.keypoint_reach, frame_width=frame_width)[0]
     boxes = trim_above_pose(boxes, status, keypoints, reach=s.head_reach)[0]
     boxes = smooth_boxes(boxes, status, window=s.smooth_window)

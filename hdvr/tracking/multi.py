@@ -62,7 +62,7 @@ from hdvr.tracking.appearance import (box_inside, box_iou, box_overlap, clip_box
 from hdvr.tracking.extent import ReportedExtent
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
 from hdvr.tracking.state import (OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, body_core, box_at, box_centre,
-                                 stands_in_front)
+                                 covered_fraction, stands_in_front)
 
 #: fraction of a dancer's box height left out at its top and at its bottom in the dancers' colour histograms
 HISTOGRAM_END_SHRINK = 0.15
@@ -1826,20 +1826,11 @@ class MultiDancerTracker(ReportedExtent):
             return  # stay occluded; try again next frame
         self._take(d, best, best_score, seen_part=best in found)
 
-    def _covered_fraction(self, d: DancerTrack, box, samples: int = 12) -> float:
+    def _covered_fraction(self, d: DancerTrack, box) -> float:
         """The fraction of the body core of ``box`` (x, y, w, h px) inside the body cores of the tracked dancers
-        but ``d`` (those in front that may hide it), sampled on a ``samples`` x 2 ``samples`` grid."""
-        fronts = np.array([self._core(o.box) for o in self.dancers if o is not d and o.status == TRACKED],
-                          dtype=float)
-        if not len(fronts):
-            return 0.0
-        x, y, w, h = self._core(box)
-        xs = x + (np.arange(samples) + 0.5) / samples * w
-        ys = y + (np.arange(2 * samples) + 0.5) / (2 * samples) * h
-        px, py = (a.ravel()[:, None] for a in np.meshgrid(xs, ys))
-        inside = (px >= fronts[:, 0]) & (px <= fronts[:, 0] + fronts[:, 2]) & \
-            (py >= fronts[:, 1]) & (py <= fronts[:, 1] + fronts[:, 3])
-        return float(inside.any(axis=1).mean())
+        but ``d`` (those in front that may hide it; :func:`hdvr.tracking.state.covered_fraction`)."""
+        return covered_fraction(box, [o.box for o in self.dancers if o is not d and o.status == TRACKED],
+                                self.config.core_aspect)
 
     def _clear_of_others(self, d: DancerTrack, box) -> bool:
         """Whether ``box`` (x, y, w, h px) overlaps the body core of no dancer in the frame but ``d``."""

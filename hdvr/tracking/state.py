@@ -132,6 +132,24 @@ def body_core(box, aspect: float) -> tuple[float, float, float, float]:
     return (box[0] + (box[2] - w) / 2, box[1], w, box[3])
 
 
+def covered_fraction(box, fronts, aspect: float, samples: int = 12) -> float:
+    """The fraction of the body core of ``box`` (x, y, w, h px; :func:`body_core` with ``aspect``) inside the body
+    cores of the boxes ``fronts`` (K x 4 px; rows with NaN are left out), sampled on a ``samples`` x 2 ``samples``
+    grid; 0 without fronts."""
+    fronts = np.asarray(fronts, float).reshape(-1, 4)
+    fronts = fronts[np.isfinite(fronts).all(axis=1)]
+    if not len(fronts):
+        return 0.0
+    cores = np.array([body_core(f, aspect) for f in fronts])
+    x, y, w, h = body_core(box, aspect)
+    xs = x + (np.arange(samples) + 0.5) / samples * w
+    ys = y + (np.arange(2 * samples) + 0.5) / (2 * samples) * h
+    px, py = (a.ravel()[:, None] for a in np.meshgrid(xs, ys))
+    inside = (px >= cores[:, 0]) & (px <= cores[:, 0] + cores[:, 2]) & \
+        (py >= cores[:, 1]) & (py <= cores[:, 1] + cores[:, 3])
+    return float(inside.any(axis=1).mean())
+
+
 def stands_in_front(front, behind, margin: float) -> bool:
     """Whether the person in (x, y, w, h) px box ``front`` stands in front of the one in ``behind``: its box bottom
     is ``margin`` x ``behind``'s height lower in the image (the floor rises towards the horizon)."""
