@@ -184,6 +184,10 @@ class MultiTrackerConfig:
     reid_unheld_height: float = 1.3  # ... if its height is within this factor of the occluded dancer's box
     reid_unheld_aspect: float = 2.0  # ... and its width / height at most this factor of the occluded dancer's box's
     # (a wider box there is a part of that dancer drawn apart, e.g. its upper body with spread arms)
+    reid_unheld_rival_height: float | None = 1.3  # ... and at most this factor taller than each such dancer's box:
+    # a box around that dancer and another figure beside it is taller than it (procedural crossings with the
+    # detector, 4 figures, seed 10: a figure re-identified on a box 1.47 x its neighbour's height, 1.24 x its own,
+    # kept that box's size to the end, IDF1 0.86 -> 0.95; hdvr synth D, F, G, H: no run changed). None: off
     reid_height_change: float = 1.25  # re-identification takes no detection this much taller or shorter than the
     # dancer's box, its bottom made good where a dancer in front hides it (:meth:`_feet_hidden`). A box about a
     # dancer's head and spread arms, a third of its height, took hdvr synth seed 901 swing's dancer in front for the
@@ -2070,7 +2074,8 @@ class MultiDancerTracker(ReportedExtent):
                         continue
                     return False
                 if is_detection and c.reid_beside_unheld and o.dancer_id not in claims and \
-                        o.stored_histogram is not None and self._bodies_overlap(box, o.box) < c.reid_held_overlap:
+                        o.stored_histogram is not None and self._bodies_overlap(box, o.box) < c.reid_held_overlap \
+                        and (c.reid_unheld_rival_height is None or box[3] <= c.reid_unheld_rival_height * o.box[3]):
                     rivals.append(o)
                     continue
                 return False
