@@ -650,6 +650,19 @@ def test_occluded_dancer_reidentified_beside_a_dancer_without_a_detection():
     assert not reidentified(beside, start=alike)
 
 
+def _reidentified_beside_unheld(first, later, start_boxes, occluded_box, detection, config=None) -> bool:
+    """Whether dancer 1 of a tracker started on ``first`` with ``start_boxes``, occluded at ``occluded_box``, is
+    re-identified in ``later`` on ``detection``, which overlaps tracked dancer 0's body core (by less than half) and
+    which dancer 0 does not take (it holds no detection)."""
+    tracker = MultiDancerTracker(first, start_boxes, config)
+    still, hidden = tracker.dancers
+    hidden.status, hidden.box = OCCLUDED, occluded_box
+    assert tracker.config.overlap_threshold < tracker._bodies_overlap(detection, still.box) < 0.5
+    assert not tracker._claims([detection])
+    tracker._reidentify(later, [hidden], [start_boxes[1]], [detection])  # its own tracker: on the background
+    return hidden.status == TRACKED
+
+
 def test_an_occluded_dancer_is_not_reidentified_on_a_box_around_a_dancer_without_a_detection_and_another():
     """Beside a tracked dancer without a detection of its own, a detection more than ``reid_unheld_rival_height``
     (1.3) x that dancer's height is YOLO's box around it and a figure beside it, not the occluded dancer coming out,
@@ -668,14 +681,8 @@ def test_an_occluded_dancer_is_not_reidentified_on_a_box_around_a_dancer_without
     later[100:300, 200:240] = (200, 40, 30)
 
     def reidentified(limit) -> bool:
-        config = MultiTrackerConfig(reid_unheld_rival_height=limit)
-        tracker = MultiDancerTracker(first, [tracked_box, hidden_box], config)
-        still, hidden = tracker.dancers
-        hidden.status, hidden.box = OCCLUDED, (250.0, 70.0, 60.0, 260.0)
-        assert tracker.config.overlap_threshold < tracker._bodies_overlap(around, still.box) < 0.5
-        assert not tracker._claims([around])  # the tracked dancer does not take it
-        tracker._reidentify(later, [hidden], [hidden_box], [around])
-        return hidden.status == TRACKED
+        return _reidentified_beside_unheld(first, later, [tracked_box, hidden_box], (250.0, 70.0, 60.0, 260.0),
+                                           around, MultiTrackerConfig(reid_unheld_rival_height=limit))
 
     assert not reidentified(1.3)
     assert reidentified(None)
@@ -698,13 +705,8 @@ def test_an_occluded_dancer_is_not_reidentified_on_a_wide_part_of_a_dancer_witho
     later[100:360, 200:240] = (200, 40, 30)
 
     def reidentified(config=None) -> bool:
-        tracker = MultiDancerTracker(first, [tracked_box, hidden_box], config)
-        still, hidden = tracker.dancers
-        hidden.status, hidden.box = OCCLUDED, (250.0, 110.0, 40.0, 200.0)
-        assert tracker.config.overlap_threshold < tracker._bodies_overlap(wide, still.box) < 0.5
-        assert not tracker._claims([wide])  # the tracked dancer does not take it
-        tracker._reidentify(later, [hidden], [hidden_box], [wide])
-        return hidden.status == TRACKED
+        return _reidentified_beside_unheld(first, later, [tracked_box, hidden_box], (250.0, 110.0, 40.0, 200.0),
+                                           wide, config)
 
     assert not reidentified()
     assert reidentified(MultiTrackerConfig(reid_unheld_aspect=float("inf")))
