@@ -689,6 +689,34 @@ def test_an_occluded_dancer_is_not_reidentified_on_a_box_around_a_dancer_without
     assert reidentified(1.5)
 
 
+def test_an_occluded_dancer_is_not_reidentified_on_a_box_around_a_pile_of_dancers():
+    """A detection that holds the body cores of two or more other dancers (``reid_pile_cores``; occluded ones at
+    their predicted boxes) is a box around a pile of figures, not one of them coming out: procedural crossings with
+    the detector, three figures piled up, all occluded, one re-identified on YOLO's box around the pile (3 figures
+    seed 7; 4 figures seed 3) and kept its size to the end."""
+    rng = np.random.default_rng(3)
+    background = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
+    first = background.copy()
+    starts = [(60.0, 100.0, 60.0, 200.0), (300.0, 100.0, 60.0, 200.0), (520.0, 100.0, 60.0, 200.0)]
+    for (x, y, w, h), colour in zip(starts, [(200, 40, 30), (40, 200, 30), (30, 40, 210)]):
+        first[int(y):int(y + h), int(x):int(x + w)] = colour
+    pile = [(250.0, 100.0, 60.0, 200.0), (270.0, 100.0, 60.0, 200.0), (260.0, 100.0, 60.0, 200.0)]
+    around = (240.0, 80.0, 100.0, 230.0)  # about the pile, 1.15 x a dancer's height
+    later = background.copy()
+    later[80:310, 240:340] = (30, 40, 210)  # the red dancer in front of the pile
+
+    def reidentified(config) -> bool:
+        tracker = MultiDancerTracker(first, starts, config)
+        for d, box in zip(tracker.dancers, pile):
+            d.status, d.box, d.stored_box = OCCLUDED, box, box
+        tracker._reidentify(later, tracker.dancers, starts, [around])  # their own trackers: on the background
+        return tracker.dancers[2].status == TRACKED
+
+    assert not reidentified(MultiTrackerConfig(reid_pile_cores=2))
+    assert reidentified(MultiTrackerConfig(reid_pile_cores=None))
+    assert reidentified(MultiTrackerConfig(reid_pile_cores=3))
+
+
 def test_an_occluded_dancer_is_not_reidentified_on_a_wide_part_of_a_dancer_without_a_detection():
     """Beside a tracked dancer without a detection of its own, a detection much wider for its height than the
     occluded dancer's box (``reid_unheld_aspect``: 2 x) is most likely a part of the tracked dancer that YOLO drew

@@ -188,6 +188,12 @@ class MultiTrackerConfig:
     # a box around that dancer and another figure beside it is taller than it (procedural crossings with the
     # detector, 4 figures, seed 10: a figure re-identified on a box 1.47 x its neighbour's height, 1.24 x its own,
     # kept that box's size to the end, IDF1 0.86 -> 0.95; hdvr synth D, F, G, H: no run changed). None: off
+    reid_pile_cores: int | None = 2  # re-identification takes no detection that holds the body cores of this many
+    # other dancers in the frame (their boxes, occluded ones' predicted boxes, each ``reid_pile_inside`` inside it):
+    # a box around a pile of figures, not one of them coming out (procedural crossings with the detector: 3 figures
+    # seed 7, all three occluded in a pile, one re-identified on YOLO's box around it, 0.88 -> 1.00; 4 figures seed
+    # 3 0.87 -> 0.92; hdvr synth D, F, G, H and the groups of 6 and 8: no run changed). None: off
+    reid_pile_inside: float = 0.9  # ... the fraction of such a core inside the detection
     reid_height_change: float = 1.25  # re-identification takes no detection this much taller or shorter than the
     # dancer's box, its bottom made good where a dancer in front hides it (:meth:`_feet_hidden`). A box about a
     # dancer's head and spread arms, a third of its height, took hdvr synth seed 901 swing's dancer in front for the
@@ -2096,6 +2102,8 @@ class MultiDancerTracker(ReportedExtent):
                      or (_height_within(box, d.box, c.reid_unheld_height)
                          and not self._wider_than(box, d, c.reid_unheld_aspect))]
             boxes = [box for box in boxes if self._height_fits(d, box)]
+            if c.reid_pile_cores:
+                boxes = [box for box in boxes if not self._around_a_pile(d, box)]
             candidates.append((d, boxes + ([own] if clear(own, False) and self._own_box_stays(d, own) else [])))
         for d, box, score in self._histogram_matches(frame, candidates, occluded, box_rivals):
             self._take(d, box, score, seen_part=tuple(box) in dets)
@@ -2103,6 +2111,14 @@ class MultiDancerTracker(ReportedExtent):
             if holder is not None and holder.status == TRACKED:
                 holder.size_ratio = None  # perhaps learned from that detection
                 self._occlude(holder, [d])
+
+    def _around_a_pile(self, d: DancerTrack, box) -> bool:
+        """Whether ``box`` (x, y, w, h px) holds the body cores of ``reid_pile_cores`` or more dancers in the frame
+        but ``d`` (each at least ``reid_pile_inside`` inside it; occluded ones at their predicted boxes)."""
+        c = self.config
+        others = [o for o in self.dancers if o is not d and o.status != OUT]
+        held = sum(box_inside(self._core(b), box) >= c.reid_pile_inside for b in self._boxes_now(others))
+        return held >= c.reid_pile_cores
 
     def _stray_people(self, detections) -> list[tuple[float, float, float, float]]:
         """Sure ``detections`` (x, y, w, h px) of this detector frame that no tracked dancer takes
