@@ -12,7 +12,9 @@ the dancers' keypoints before the smoothing (right), for those of ``HEAD_REACH``
 (left) and after (right) a dancer waiting hidden behind another is moved towards her start offset, as written, for
 those of ``AMODAL`` one with the boxes written without (left) and with (right) the learned whole-body refiner, and
 for those of ``CORRECTION`` one with the boxes as tracked (left) and after the first correction of the simulated user
-of ``scripts/bench_corrections.py`` (right), at the frame after it where the corrected dancer's box gains most.
+of ``scripts/bench_corrections.py`` (right), at the frame after it where the corrected dancer's box gains most, and
+for those of ``PROCEDURAL_HOLD`` a procedural crossing clip of ``bench_track.py --sections identity`` with a figure
+held where it went behind (left, ``HindsightSettings.hold_min_cover`` 0) and as written (right).
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -47,6 +49,11 @@ BEFORE_AFTER = (
     (2665, 2, "hip_hop", 3, 8, "emerge_own_margin", "tracking_emerge_own_margin_s2665_hip_hop_008.jpg"),
     (2741, 5, "ballet", 4, 45, "lost_max_foreground", "tracking_lost_max_foreground_s2741_ballet_045.jpg"),
     (2762, 5, "ballet", 4, 30, "front_follows_feet", "tracking_front_follows_feet_s2762_ballet_030.jpg"),
+)
+#: (figures, seed, frame, picture name): a procedural crossing clip (``bench_track.py --sections identity``) where a
+#: figure that walked on behind another is held where it went behind without ``HindsightSettings.hold_min_cover``
+PROCEDURAL_HOLD = (
+    (3, 2, 110, "tracking_hold_min_cover_crossing3_s2_110.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (
@@ -231,7 +238,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
-                                           "amodal", "unposed", "correction", "timeline", "evaluation"),
+                                           "amodal", "unposed", "correction", "timeline", "evaluation",
+                                           "procedural-hold"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
@@ -239,7 +247,7 @@ def main(argv=None) -> int:
                              "whole-body (amodal) boxes, the one of a dancer's pose found zoomed in, the one of a "
                              "correction, or "
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
-                             "picture of hdvr evaluate tracks --plot")
+                             "picture of hdvr evaluate tracks --plot, or the procedural crossing held and not held")
     parser.add_argument("--fields", default=None, metavar="NAME,...",
                         help="with --only before-after: only the pictures of these MultiTrackerConfig fields")
     args = parser.parse_args(argv)
@@ -272,6 +280,11 @@ def main(argv=None) -> int:
             _write_two_runs(path, video, detector, frame_index, gt, tracked,
                             (f"{field} off", f"{field} = {getattr(default, field)}"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, {field} off and on", file=sys.stderr)
+        for figures, seed, frame_index, name in PROCEDURAL_HOLD if args.only in (None, "procedural-hold") else ():
+            path = args.out / name
+            _write_procedural_hold(path, tmp, detector, figures, seed, frame_index)
+            print(f"wrote {path}: {figures} procedural figures, seed {seed}, frame {frame_index}, without and with "
+                  f"hold_min_cover", file=sys.stderr)
         for seed, index, genre, n, frame_index, name in HINDSIGHT if args.only in (None, "hindsight") else ():
             gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [None, None], [False, True])
             path = args.out / name
@@ -325,6 +338,27 @@ def main(argv=None) -> int:
             for path in _write_timeline_and_frame(args.out, tmp, detector, seed, index, genre, n):
                 print(f"wrote {path}: seed {seed} {genre}", file=sys.stderr)
     return 0
+
+
+def _write_procedural_hold(path: Path, tmp: Path, detector, figures: int, seed: int, frame_index: int):
+    """JPEG ``path``: frame ``frame_index`` of the procedural crossing clip of ``figures`` figures and ``seed`` (as
+    ``bench_track.py --sections identity`` renders it), tracked as ``hdvr track`` does from the true first boxes, its
+    boxes written with hindsight's ``hold_min_cover`` off (left) and as written (right). Returns the ground-truth
+    boxes and those two runs' boxes ((T, N, 4) px each)."""
+    from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
+    from hdvr.tracking.pipeline import track_video
+    from hdvr.tracking.testclips import default_crossing_specs, render_clip
+
+    video = tmp / f"crossing-{figures}-{seed}.mp4"
+    truth = render_clip(video, frames=150, specs=default_crossing_specs(num_figures=figures, seed=seed), seed=seed)
+    run = track_video(video, tmp / "out", detector=detector, boxes=truth.boxes[0], detect_every=3, overlay=False,
+                      write=False, hindsight=False)
+    tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
+                               hidden_starts=run.hidden_starts, stopped_behind=run.stopped_behind,
+                               settings=HindsightSettings(**settings))[0] for settings in ({"hold_min_cover": 0.0}, {})]
+    _write_two_runs(path, video, detector, frame_index, truth.boxes, tracked,
+                    ("held where last seen (hold_min_cover 0)", "place open to view: online (as written)"))
+    return truth.boxes, tracked
 
 
 def _first_correction_runs(tmp: Path, detector, seed: int, index: int, genre: str, n: int):

@@ -33,3 +33,26 @@ def test_two_pictures_of_a_case_are_cropped_alike_and_set_side_by_side(monkeypat
     assert (left[40:, :, 2] > 200).any() and (left[40:, :, 1] > 150).any()  # dancer 0 red, dancer 1 green drawn
     picture = script._side_by_side(left, right, ("rule off", "rule on"))
     assert picture.shape[0] == left.shape[0] + 26 and picture.shape[1] == 2 * (left.shape[1] + 6)
+
+
+def test_the_procedural_hold_picture_shows_the_held_and_the_written_boxes_side_by_side(monkeypatch, tmp_path):
+    """``--only procedural-hold``: a procedural crossing clip (3 figures, seed 2) tracked as ``hdvr track`` does,
+    drawn with the boxes held where a figure went behind (left) and as written (right). With a detector that finds
+    no one (the tracker alone, as the benchmark's first row), figure 0 walks on behind figure 1 and is not taken
+    again: held, its box stays 200 px behind it; written, it follows."""
+    import cv2
+
+    script = _script(monkeypatch)
+
+    class FindsNoOne:
+        def detect(self, frame, frame_index=0):
+            return []
+
+    from hdvr.tracking.evaluation import iou_matrix
+
+    path = tmp_path / "hold.jpg"
+    truth, (held, written) = script._write_procedural_hold(path, tmp_path, FindsNoOne(), 3, 2, 110)
+    assert iou_matrix(held[110, :1], truth[110, :1])[0, 0] < 0.3
+    assert iou_matrix(written[110, :1], truth[110, :1])[0, 0] > 0.6
+    picture = cv2.imread(str(path))
+    assert picture is not None and picture.shape[1] > 1.5 * picture.shape[0]  # two panels side by side
