@@ -2045,7 +2045,10 @@ class MultiDancerTracker(ReportedExtent):
         tracked dancers that hold no detection, e.g. one hidden behind a third dancer, when its height is within
         ``reid_unheld_height`` of the occluded dancer's box and its width / height at most ``reid_unheld_aspect`` x
         the box's (a wider one is a part of such a dancer that YOLO drew apart); those dancers' memories are then
-        rivals too: the detection must match the occluded dancer's memory by ``reid_margin`` better than theirs.
+        rivals too: the detection must match the occluded dancer's memory by ``reid_margin`` better than theirs,
+        and (``reid_unheld_rival_height``) it may be at most that factor taller than each of them (a box around such
+        a dancer and a figure beside it is taller). No detection that holds the body cores of ``reid_pile_cores``
+        other dancers (:meth:`_around_a_pile`: a box around a pile of figures) re-identifies anyone.
         With ``reid_from_holder``, a detection that a tracked dancer takes is a candidate too when it stands in
         front of that dancer, covering its body core's width, and its colours match an occluded dancer's memory at
         least ``reid_similarity`` and by ``reid_margin`` better than the holder's (:meth:`_handed_over`; the holder
