@@ -42,13 +42,13 @@ def test_the_procedural_hold_picture_shows_the_held_and_the_written_boxes_side_b
     again: held, its box stays 200 px behind it; written, it follows."""
     import cv2
 
+    from hdvr.tracking.evaluation import iou_matrix
+
     script = _script(monkeypatch)
 
     class FindsNoOne:
         def detect(self, frame, frame_index=0):
             return []
-
-    from hdvr.tracking.evaluation import iou_matrix
 
     path = tmp_path / "hold.jpg"
     truth, (held, written) = script._write_procedural_hold(path, tmp_path, FindsNoOne(), 3, 2, 110)

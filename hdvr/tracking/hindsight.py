@@ -127,15 +127,12 @@ from scipy.ndimage import uniform_filter1d
 
 from hdvr.io.keypoints2d import BODY25_NAMES
 from hdvr.tracking.amodal import refine_boxes
-from hdvr.tracking.state import HIDDEN, OCCLUDED, TRACKED, covered_fraction
+from hdvr.tracking.state import BODY_CORE_ASPECT, HIDDEN, OCCLUDED, TRACKED, covered_fraction
 
 #: frames in a row a dancer must be seen after a stretch occluded for the stretch to be filled towards it
 #: (chosen on 936 hdvr synth clips: 3 and 5 frames gave 67 and 68 clips below IDF1 0.9 or with a switch, 72 without
 #: hindsight; docs/benchmarks.md "session 31")
 MIN_SEEN_AFTER = 3
-#: body cores (:func:`hdvr.tracking.state.body_core`) at most this x the box height wide, as the online tracker's
-#: ``MultiTrackerConfig.core_aspect``
-CORE_ASPECT = 0.3
 #: the fraction of the body core of the box where a dancer was last seen that must lie behind the body cores of the
 #: dancers followed in every frame of an occluded stretch for :func:`hold_last_seen` to hold it there (session 59;
 #: 0.4, 0.5 and 0.6 gave the same 5 of 72 procedural crossings failing, 17 without; on hdvr synth sets D, F, G, H
@@ -292,10 +289,10 @@ def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float 
                 continue  # the tracker kept it behind the dancers in front: its online boxes say where
             stretch = np.arange(first, last + 1)
             stretch = stretch[np.isfinite(boxes[stretch, i]).all(axis=1)]
+            others = [j for j in range(boxes.shape[1]) if j != i]
             if min_cover > 0 and any(
-                    covered_fraction(seen, [boxes[t, j] for j in range(boxes.shape[1])
-                                            if j != i and status[t, j] == TRACKED], CORE_ASPECT) < min_cover
-                    for t in stretch):
+                    covered_fraction(seen, [boxes[t, j] for j in others if status[t, j] == TRACKED],
+                                     BODY_CORE_ASPECT) < min_cover for t in stretch):
                 continue  # where it was last seen lies open to view in some frame: it is not there
             out[stretch, i] = weight * seen + (1.0 - weight) * boxes[stretch, i]
             held[stretch, i] = True

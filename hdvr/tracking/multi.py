@@ -61,8 +61,8 @@ from hdvr.tracking.appearance import (box_inside, box_iou, box_overlap, clip_box
                                       foreground_mask, histogram_similarity)
 from hdvr.tracking.extent import ReportedExtent
 from hdvr.tracking.ldes import LDESConfig, LDESTracker
-from hdvr.tracking.state import (OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, body_core, box_at, box_centre,
-                                 covered_fraction, stands_in_front)
+from hdvr.tracking.state import (BODY_CORE_ASPECT, OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, body_core,
+                                 box_at, box_centre, covered_fraction, stands_in_front)
 
 #: fraction of a dancer's box height left out at its top and at its bottom in the dancers' colour histograms
 HISTOGRAM_END_SHRINK = 0.15
@@ -80,7 +80,7 @@ class MultiTrackerConfig:
     ldes: LDESConfig = field(default_factory=lambda: LDESConfig(padding=0.6, colour_weight=0.5,
                                                                 estimate_rotation=False, estimate_scale=False))
     overlap_threshold: float = 0.05  # intersection / smaller core area above which two dancers overlap
-    core_aspect: float = 0.3  # overlaps are tested on body cores at most this x the box height wide
+    core_aspect: float = BODY_CORE_ASPECT  # overlaps are tested on body cores at most this x the box height wide
     velocity_window: int = 30  # clear frames over which the stored velocity is fitted (least squares)
     min_velocity_span: int = 1  # a clear track spanning fewer frames (one position, e.g. the first clear frame
     # after a re-identification) gives no velocity: the stored one is kept, not replaced by zero

@@ -41,7 +41,7 @@ from hdvr.tracking.boxes import check_boxes_in_frame, write_mot, write_tracks_js
 from hdvr.tracking.amodal import load_refiner
 from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
 from hdvr.tracking.multi import OCCLUDED, OUT, TRACKED, FrameResult, MultiDancerTracker, MultiTrackerConfig
-from hdvr.tracking.state import HIDDEN, body_core
+from hdvr.tracking.state import BODY_CORE_ASPECT, HIDDEN, body_core
 from hdvr.tracking.timeline import draw_tracks_timeline
 from hdvr.video import VideoReader, VideoWriter
 
@@ -265,7 +265,8 @@ def fill_between_detections(keypoints: np.ndarray, detected: np.ndarray, max_gap
 
 
 def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int, boxes, people: list,
-                    clear_of=(), side: float = 2.5, core_aspect: float = 0.3, overlap: float = 0.05) -> list:
+                    clear_of=(), side: float = 2.5, core_aspect: float = BODY_CORE_ASPECT,
+                    overlap: float = 0.05) -> list:
     """People found by running ``detector`` again on square crops of ``frame`` about ``boxes`` ((x, y, w, h) px;
     side ``side`` x the box height, clipped to the frame), in frame pixels. The detector sees each crop at its
     input size (``track_video`` gives it :data:`ZOOM_INPUT_SIZE`), so a small dancer beside another, which it misses

@@ -125,6 +125,11 @@ def box_centre(box) -> np.ndarray:
     return np.array([box[0] + box[2] / 2, box[1] + box[3] / 2], float)
 
 
+#: how wide a dancer's body core is at most, in its box heights (spread arms left out): the default of
+#: ``MultiTrackerConfig.core_aspect``, and the one hindsight and the zoomed-in detections test overlaps with
+BODY_CORE_ASPECT = 0.3
+
+
 def body_core(box, aspect: float) -> tuple[float, float, float, float]:
     """The body core of an (x, y, w, h) px box: centred, at most ``aspect`` x its height wide (spread arms left
     out); overlaps between dancers are tested on it."""
