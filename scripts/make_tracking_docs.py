@@ -14,7 +14,8 @@ those of ``AMODAL`` one with the boxes written without (left) and with (right) t
 for those of ``CORRECTION`` one with the boxes as tracked (left) and after the first correction of the simulated user
 of ``scripts/bench_corrections.py`` (right), at the frame after it where the corrected dancer's box gains most, and
 for those of ``PROCEDURAL_HOLD`` a procedural crossing clip of ``bench_track.py --sections identity`` with a figure
-held where it went behind (left, ``HindsightSettings.hold_min_cover`` 0) and as written (right).
+held where it went behind (left, ``HindsightSettings.hold_min_cover`` 0) and as written (right), and for those of
+``PROCEDURAL_TRIM`` one tracked without (left) and with (right) ``MultiTrackerConfig.foreground_trim``.
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -54,6 +55,12 @@ BEFORE_AFTER = (
 #: figure that walked on behind another is held where it went behind without ``HindsightSettings.hold_min_cover``
 PROCEDURAL_HOLD = (
     (3, 2, 110, "tracking_hold_min_cover_crossing3_s2_110.jpg"),
+)
+#: (figures, seed, frame, picture name): a procedural crossing clip with the detector where a thin figure's box kept
+#: the width of a detection with spread arms (or of a sloppy one beside a partner) without
+#: ``MultiTrackerConfig.foreground_trim``
+PROCEDURAL_TRIM = (
+    (2, 9, 63, "tracking_foreground_trim_crossing2_s9_063.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (
@@ -239,7 +246,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
                                            "amodal", "unposed", "correction", "timeline", "evaluation",
-                                           "procedural-hold"),
+                                           "procedural-hold", "procedural-trim"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
@@ -247,7 +254,8 @@ def main(argv=None) -> int:
                              "whole-body (amodal) boxes, the one of a dancer's pose found zoomed in, the one of a "
                              "correction, or "
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
-                             "picture of hdvr evaluate tracks --plot, or the procedural crossing held and not held")
+                             "picture of hdvr evaluate tracks --plot, or the procedural crossing held and not held, or "
+                             "the one tracked with and without foreground_trim")
     parser.add_argument("--fields", default=None, metavar="NAME,...",
                         help="with --only before-after: only the pictures of these MultiTrackerConfig fields")
     args = parser.parse_args(argv)
@@ -285,6 +293,11 @@ def main(argv=None) -> int:
             _write_procedural_hold(path, tmp, detector, figures, seed, frame_index)
             print(f"wrote {path}: {figures} procedural figures, seed {seed}, frame {frame_index}, without and with "
                   f"hold_min_cover", file=sys.stderr)
+        for figures, seed, frame_index, name in PROCEDURAL_TRIM if args.only in (None, "procedural-trim") else ():
+            path = args.out / name
+            _write_procedural_trim(path, tmp, detector, figures, seed, frame_index)
+            print(f"wrote {path}: {figures} procedural figures, seed {seed}, frame {frame_index}, without and with "
+                  f"foreground_trim", file=sys.stderr)
         for seed, index, genre, n, frame_index, name in HINDSIGHT if args.only in (None, "hindsight") else ():
             gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [None, None], [False, True])
             path = args.out / name
@@ -358,6 +371,25 @@ def _write_procedural_hold(path: Path, tmp: Path, detector, figures: int, seed: 
                                settings=HindsightSettings(**settings))[0] for settings in ({"hold_min_cover": 0.0}, {})]
     _write_two_runs(path, video, detector, frame_index, truth.boxes, tracked,
                     ("held where last seen (hold_min_cover 0)", "place open to view: online (as written)"))
+    return truth.boxes, tracked
+
+
+def _write_procedural_trim(path: Path, tmp: Path, detector, figures: int, seed: int, frame_index: int):
+    """JPEG ``path``: frame ``frame_index`` of the procedural crossing clip of ``figures`` figures and ``seed``,
+    tracked as ``hdvr track`` does from the true first boxes with ``MultiTrackerConfig.foreground_trim`` off (left)
+    and as by default (right), both as written (hindsight on). Returns the ground-truth boxes and those two runs'
+    boxes ((T, N, 4) px each)."""
+    from hdvr.tracking.multi import MultiTrackerConfig
+    from hdvr.tracking.pipeline import track_video
+    from hdvr.tracking.testclips import default_crossing_specs, render_clip
+
+    video = tmp / f"crossing-{figures}-{seed}.mp4"
+    truth = render_clip(video, frames=150, specs=default_crossing_specs(num_figures=figures, seed=seed), seed=seed)
+    tracked = [track_video(video, tmp / "out", detector=detector, boxes=truth.boxes[0], detect_every=3,
+                           overlay=False, write=False, config=config).boxes
+               for config in (MultiTrackerConfig(foreground_trim=0.0), MultiTrackerConfig())]
+    _write_two_runs(path, video, detector, frame_index, truth.boxes, tracked,
+                    ("foreground_trim off", f"foreground_trim = {MultiTrackerConfig().foreground_trim}"))
     return truth.boxes, tracked
 
 

@@ -53,6 +53,8 @@ def test_the_procedural_hold_picture_shows_the_held_and_the_written_boxes_side_b
     path = tmp_path / "hold.jpg"
     truth, (held, written) = script._write_procedural_hold(path, tmp_path, FindsNoOne(), 3, 2, 110)
     assert iou_matrix(held[110, :1], truth[110, :1])[0, 0] < 0.3
-    assert iou_matrix(written[110, :1], truth[110, :1])[0, 0] > 0.6
+    # a match as the benchmark counts it (the box, trimmed to the figure with its arms in, is narrower than the
+    # figure with its arms out: ``foreground_trim``, session 60)
+    assert iou_matrix(written[110, :1], truth[110, :1])[0, 0] > 0.5
     picture = cv2.imread(str(path))
     assert picture is not None and picture.shape[1] > 1.5 * picture.shape[0]  # two panels side by side

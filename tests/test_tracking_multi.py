@@ -1712,9 +1712,10 @@ def test_a_dancer_up_from_a_floor_move_narrows_its_wide_low_box(tmp_path):
     assert box_iou(floor, standing) < 0.4
 
     def width_after(columns: bool) -> float:
-        # stuck_persist off: it would move the area-counted box onto the detection after 3 frames anyway
-        tracker = MultiDancerTracker(frames[0], [floor], MultiTrackerConfig(adapt_containment_columns=columns,
-                                                                            stuck_persist=0))
+        # stuck_persist off: it would move the area-counted box onto the detection after 3 frames anyway;
+        # foreground_trim off: it narrows the box to the figure's foreground columns either way
+        tracker = MultiDancerTracker(frames[0], [floor], MultiTrackerConfig(
+            adapt_containment_columns=columns, stuck_persist=0, foreground_trim=0.0))
         for t in range(1, 8):
             x, y, w, h = (float(v) for v in truth.boxes[t][0])
             tracker.step(frames[t], [(x, y, w, h)])
@@ -1736,7 +1737,9 @@ def test_a_clear_dancer_whose_box_lies_half_off_its_detection_restarts_on_it(tmp
     assert box_iou(start, (x, y, w, h)) < 0.4
 
     def ious(persist: int) -> list[float]:
-        tracker = MultiDancerTracker(frames[0], [start], MultiTrackerConfig(stuck_persist=persist))
+        # foreground_trim off: it trims the box's side lying on the background towards the figure meanwhile
+        tracker = MultiDancerTracker(frames[0], [start], MultiTrackerConfig(stuck_persist=persist,
+                                                                            foreground_trim=0.0))
         out = []
         for t in range(1, 8):
             detection = tuple(float(v) for v in truth.boxes[t][0])
@@ -2083,3 +2086,55 @@ def test_a_waiting_dancer_seen_side_on_comes_out_facing_the_camera():
         tracker._emerge(later, [front_box, box])
         assert (waiting.hidden_behind is None) == emerged, (box, min_aspect)
     assert MultiTrackerConfig().emerge_min_aspect == 0.3
+
+
+def test_a_clear_dancer_s_box_trims_sides_that_show_no_foreground(tmp_path):
+    """A figure starts with its arms out (143 px wide) and brings them in (92 px); its start box is wider still on
+    the right (as a detector boxes a figure beside a partner). On detector frames that find no one, with
+    ``foreground_trim`` (the default, session 60) the box's sides move in to the figure's foreground columns and
+    its centre onto the figure; with 0 it keeps its start width."""
+    spec = FigureSpec((260.0, 240.0), (1.5, 0.0), 280.0, ((200, 90, 30), (230, 230, 230)), depth=0.0, phase=2.5)
+    truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=[spec])
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    x, y, w, h = (float(v) for v in truth.boxes[0][0])
+    wide = (x, y, 1.4 * w, h)
+
+    def box_after(trim: float):
+        tracker = MultiDancerTracker(frames[0], [wide], MultiTrackerConfig(foreground_trim=trim))
+        for t in range(1, 8):
+            tracker.step(frames[t], [])  # the detector ran and found no one
+        return tracker.dancers[0].box
+
+    assert MultiTrackerConfig().foreground_trim > 0
+    kept, trimmed = box_after(0.0), box_after(MultiTrackerConfig().foreground_trim)
+    figure = tuple(float(v) for v in truth.boxes[7][0])
+    assert figure[2] < 0.7 * w
+    assert kept[2] == pytest.approx(wide[2])
+    assert box_iou(kept, figure) < 0.5
+    assert box_iou(trimmed, figure) > 0.75
+    assert trimmed[2] == pytest.approx(figure[2], rel=0.15)
+
+
+def test_a_start_box_with_a_margin_around_the_body_keeps_it_when_trimmed(tmp_path):
+    """A start box wider than the detection on it by a margin (a user's convention) is trimmed to the figure's
+    foreground plus that margin, not to the bare figure; a box wider still loses the rest."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=1, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    x, y, w, h = (float(v) for v in truth.boxes[0][0])
+    standing = (x, y, w, h)
+
+    def width_after(start) -> float:
+        tracker = MultiDancerTracker(frames[0], [])
+        tracker.add_dancer(frames[0], start, detections=[standing])
+        for t in range(1, 8):
+            tracker.step(frames[t], [])
+        return tracker.dancers[0].box[2]
+
+    margin = 0.3 * w
+    loose = (x - margin / 2, y, w + margin, h)
+    assert width_after(loose) == pytest.approx(loose[2], rel=0.1)
+    # no detection on the start box: no margin is known, and the box comes in to the figure
+    tracker = MultiDancerTracker(frames[0], [loose])
+    for t in range(1, 8):
+        tracker.step(frames[t], [])
+    assert tracker.dancers[0].box[2] < w + 0.5 * margin

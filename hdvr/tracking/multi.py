@@ -338,6 +338,15 @@ class MultiTrackerConfig:
     adapt_max_foreground: float = 0.2  # ... and its columns beside the detection are background (at most this
     # fraction with a limb's worth of foreground: :meth:`_empty_around`)
     max_height_change: float = 1.6  # a detection this much taller or shorter than a dancer's box is not it
+    foreground_trim: float = 0.01  # with > 0, on each detector frame a clear dancer's box side whose columns
+    # hold fewer foreground pixels than this x the box height moves ``foreground_trim_weight`` of the way in to the
+    # outermost column that holds more (:meth:`MultiDancerTracker._trim_to_foreground`): the detector finds a thin
+    # figure mostly with its arms out, or boxes it wide beside a partner, and the box kept that width between
+    # finds (procedural crossing, 2 figures seed 9: 180 px around an 88 px figure)
+    foreground_trim_min_fill: float = 0.15  # ... only where at least this fraction of the box is foreground (the
+    # dancer stands out from the background there)
+    foreground_trim_min_aspect: float = 0.2  # ... and never narrower than this x the box height
+    foreground_trim_weight: float = 1.0  # ... moving this much of the way in per detector frame
     adapt_beside_partner: bool = True  # a clear dancer whose one detection is refused as hers alone only because its
     # body core overlaps a partner's beside her (tracked, clear of her, not in front, holding a detection of her
     # own) adapts her box's height to it, keeping its bottom and width (:meth:`MultiDancerTracker._beside_partner`).
@@ -965,6 +974,8 @@ class MultiDancerTracker(ReportedExtent):
                     stuck = len(matches) == 1 and not fronting and self._single_person(d, matches[0]) and \
                         self._containment(matches[0], d.box) <= c.adapt_min_containment
                 d.stuck = d.stuck + 1 if stuck else 0
+                if c.foreground_trim > 0 and not fronting:
+                    self._trim_to_foreground(d, frame)
                 if c.stuck_persist and d.stuck >= c.stuck_persist:
                     self._restart_on_stuck(d, frame, matches[0])
                 # a box missed that long and showing (almost) no foreground lies on the floor or wall
@@ -1407,6 +1418,65 @@ class MultiDancerTracker(ReportedExtent):
         centre = x + w / 2 + offset_x - d.offset[0]
         d.offset = np.array([offset_x, d.offset[1]])
         d.box = (centre - new_w / 2, y, new_w, h)
+
+    def _trim_to_foreground(self, d: DancerTrack, frame) -> None:
+        """Narrow clear dancer ``d``'s box where a side shows no foreground: each side whose columns hold fewer than
+        ``foreground_trim`` x the box height foreground pixels (:meth:`_foreground`) moves
+        ``foreground_trim_weight`` of the way in to the outermost column that holds more (plus half the start box's
+        width margin, :meth:`_box_size`), the box centre's offset from the tracker's following (where that is more
+        than ``max_box_offset`` x the width, the tracker restarts on the new box). Foreground columns count only in
+        the run (gaps up to ``pixel_gap``) nearest the tracker's centre. A side is left as it is where it lies outside the frame or where
+        a column to be cut lies in another dancer's box (that foreground is not told apart); the box is left alone
+        where less than ``foreground_trim_min_fill`` of it is foreground (a dancer dressed like the background),
+        and is never narrower than ``foreground_trim_min_aspect`` x its height. Only ever narrows: spread arms
+        widen the box through the detections, and the reported extent (:mod:`hdvr.tracking.extent`) reaches them
+        between those."""
+        c = self.config
+        fg = self._foreground(frame)
+        width, height = frame.shape[1], frame.shape[0]
+        x, y, w, h = d.box
+        r = clip_box(d.box, (width, height))
+        if fg is None or r is None or w <= 0 or h <= 0:
+            return
+        x0, y0, x1, y1 = r
+        counts = fg[y0:y1, x0:x1].sum(axis=0)
+        if counts.sum() < c.foreground_trim_min_fill * w * h:
+            return
+        filled = np.flatnonzero(counts >= max(2.0, c.foreground_trim * h))
+        if not len(filled):
+            return
+        # the run of filled columns (gaps up to ``pixel_gap``) nearest the tracker's centre: specks of background
+        # colours missing from the sample around the dancers lie apart from it
+        runs = np.split(filled, np.flatnonzero(np.diff(filled) > c.pixel_gap + 1) + 1)
+        centre_column = float(d.tracker.center[0]) - x0
+        filled = min(runs, key=lambda run: 0.0 if run[0] <= centre_column <= run[-1] else
+                     min(abs(run[0] - centre_column), abs(run[-1] - centre_column)))
+        blocked = np.zeros(x1 - x0, bool)
+        for o in self.dancers:
+            b = clip_box(o.box, (width, height)) if o is not d and o.status != OUT else None
+            if b is not None:
+                blocked[max(0, b[0] - x0):max(0, b[2] - x0)] = True
+        # a start box with a margin around the body keeps it (half the width margin of :meth:`_box_size` a side)
+        pad = 0.0
+        if c.width_margin and d.size_ratio is not None and d.ratio_aspect is not None:
+            pad = max(0.0, 0.5 * (d.size_ratio[0] - 1.0) * d.ratio_aspect * h / d.size_ratio[1])
+        a = c.foreground_trim_weight
+        left, right = x, x + w
+        inner_left, inner_right = x0 + filled[0] - pad, x0 + filled[-1] + 1 + pad
+        if x >= 0 and inner_left > x and not blocked[:filled[0]].any():
+            left = x + a * (inner_left - x)
+        if x + w <= width and inner_right < x + w and not blocked[filled[-1] + 1:].any():
+            right = x + w - a * (x + w - inner_right)
+        new_w = right - left
+        if new_w >= w or new_w < c.foreground_trim_min_aspect * h:
+            return
+        d.box = (left, y, new_w, h)
+        offset_x = d.offset[0] + (left + right - 2 * x - w) / 2
+        if abs(offset_x) <= c.max_box_offset * new_w:
+            d.offset = np.array([offset_x, d.offset[1]])
+        else:  # the tracker follows a point off the figure (a start box far wider on one side): restart it there
+            d.offset = np.zeros(2)
+            d.tracker.init(frame, self._core(d.box))
 
     def _containment(self, detection, box) -> float:
         """How much of ``detection`` lies inside dancer box ``box`` (both x, y, w, h px), in [0, 1]: with
