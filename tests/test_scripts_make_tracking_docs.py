@@ -58,3 +58,26 @@ def test_the_procedural_hold_picture_shows_the_held_and_the_written_boxes_side_b
     assert iou_matrix(written[110, :1], truth[110, :1])[0, 0] > 0.5
     picture = cv2.imread(str(path))
     assert picture is not None and picture.shape[1] > 1.5 * picture.shape[0]  # two panels side by side
+
+
+def test_the_procedural_trim_picture_shows_the_boxes_without_and_with_foreground_trim(monkeypatch, tmp_path):
+    """``--only procedural-trim``: the procedural crossing clip of 2 figures, seed 9, tracked as ``hdvr track``
+    does without (left) and with (right) ``foreground_trim``. With a detector that runs but finds no one, figure 1's
+    box keeps its start width (the figure with its arms out) without the trim, and comes in to the figure with it."""
+    import cv2
+
+    from hdvr.tracking.evaluation import iou_matrix
+
+    script = _script(monkeypatch)
+
+    class FindsNoOne:
+        def detect(self, frame, frame_index=0):
+            return []
+
+    path = tmp_path / "trim.jpg"
+    truth, (kept, trimmed) = script._write_procedural_trim(path, tmp_path, FindsNoOne(), 2, 9, 40)
+    assert truth[40, 1, 2] < 0.85 * truth[0, 1, 2]  # the figure's arms are in by then
+    assert kept[40, 1, 2] > trimmed[40, 1, 2]
+    assert iou_matrix(trimmed[40, 1:], truth[40, 1:])[0, 0] > iou_matrix(kept[40, 1:], truth[40, 1:])[0, 0] + 0.1
+    picture = cv2.imread(str(path))
+    assert picture is not None and picture.shape[1] > 1.5 * picture.shape[0]  # two panels side by side
