@@ -2138,3 +2138,45 @@ def test_a_start_box_with_a_margin_around_the_body_keeps_it_when_trimmed(tmp_pat
     for t in range(1, 8):
         tracker.step(frames[t], [])
     assert tracker.dancers[0].box[2] < w + 0.5 * margin
+
+
+def test_relocation_takes_no_detection_around_another_dancer():
+    """With ``relocate_holder_cores`` 1 (the default, session 60) relocation takes no detection in the cone that holds the body core of another
+    dancer: a box around the dancer in front and the hidden one beside it (hdvr synth D 2719 ballet: a hidden dancer
+    was relocated onto a 174 x 164 px box around her and the dancer in front, her own box 57 x 132)."""
+    rng = np.random.default_rng(12)
+    start, front = (100.0, 100.0, 60.0, 200.0), (260.0, 100.0, 60.0, 200.0)
+    red, blue, green = (30, 40, 210), (200, 60, 40), (60, 170, 80)
+    frame = _two_colour_frame(rng, [(start, (red, blue)), (front, (green, green))])
+    hidden = (215.0, 100.0, 60.0, 200.0)  # 120 px along the motion, half behind the front dancer
+    later = _two_colour_frame(rng, [(hidden, (red, blue)), (front, (green, green))])
+    around_both = (205.0, 95.0, 125.0, 210.0)
+    assert MultiTrackerConfig().relocate_holder_cores == 1
+    for cores, taken in ((0, True), (1, False)):
+        # the cone's patches left out: the detection is the only candidate
+        tracker = MultiDancerTracker(frame, [start, front], MultiTrackerConfig(relocate_holder_cores=cores,
+                                                                               relocate_patches=False))
+        d = tracker.dancers[0]
+        d.status, d.stored_velocity = OCCLUDED, np.array([4.0, 0.0])  # px/frame to the right
+        tracker.frame_index = 30
+        tracker._relocate(d, later, [around_both], force=True)
+        assert (box_iou(d.box, around_both) > 0.8) == taken, (cores, d.box)
+
+
+def test_an_own_tracker_box_behind_the_prediction_is_no_candidate():
+    """With ``own_box_max_back`` 0.5 (the default, session 60) an occluded dancer's own tracker's box is a candidate only if its centre lies at
+    most half the dancer's box width behind the predicted box's along the stored velocity (the cone lies ahead): a
+    tracker that slid back onto the dancer in front's limbs is not (hdvr synth D 2719 ballet, 44 px behind a 57 px
+    wide box). Ahead, or for a dancer barely moving, it is."""
+    rng = np.random.default_rng(3)
+    box = (300.0, 100.0, 60.0, 200.0)
+    frame = _two_colour_frame(rng, [(box, ((30, 40, 210), (200, 60, 40)))])
+    behind, ahead = (240.0, 100.0, 60.0, 200.0), (340.0, 100.0, 60.0, 200.0)
+    assert MultiTrackerConfig().own_box_max_back == 0.5
+    for back, velocity, own, stays in ((None, (4.0, 0.0), behind, True), (0.5, (4.0, 0.0), behind, False),
+                                       (0.5, (4.0, 0.0), ahead, True), (0.5, (-4.0, 0.0), ahead, False),
+                                       (0.5, (0.1, 0.0), behind, True)):
+        tracker = MultiDancerTracker(frame, [box], MultiTrackerConfig(own_box_max_back=back))
+        d = tracker.dancers[0]
+        d.status, d.stored_velocity = OCCLUDED, np.array(velocity)
+        assert tracker._own_box_stays(d, own) == stays, (back, velocity, own)

@@ -150,6 +150,10 @@ class MultiTrackerConfig:
     cone_angles: int = 5  # directions sampled across the cone
     min_search_radius: float = 0.25  # x box height: search radius around the prediction when barely moving
     relocate_min_similarity: float = 0.3  # a candidate must correlate at least this well to be taken
+    relocate_holder_cores: int = 1  # with > 0, relocation takes no detection that holds the body cores of this many
+    # other dancers or more (:meth:`MultiDancerTracker._around_a_pile`; 0: no such test): a box around the dancer in
+    # front and the hidden one is not the hidden one's (hdvr synth D 2719 ballet: a 174 x 164 px box taken by a dancer
+    # of 57 x 132). Session 60, with ``own_box_max_back``: D, F, G, H failing 12 -> 10 (docs/benchmarks.md)
     relocate_patches: bool = True  # the cone search's patches are relocation candidates (Algorithm 1*); False, an
     # ablation: only the detections in the cone and the dancer's own tracker's box are (session 55, sets D and F of
     # 120 hdvr synth clips each: failing clips 7 -> 7 on each, mean IDF1 -0.0007 and -0.0003;
@@ -223,6 +227,10 @@ class MultiTrackerConfig:
     # (seed 212 hip-hop: a waiting dancer's box 47 px up behind crouching dancers, held there 100 frames; IDF1 0.602
     # -> 0.867): 504 synthetic clips failing 22 -> 20, mean IDF1 0.9854 -> 0.9863, switches 14 -> 8, 6 clips up, 2
     # down (2308 hip-hop 0.879 with 6 switches -> 0.925 with none, 2506 ballet 0.871 -> 1.000)
+    own_box_max_back: float | None = 0.5  # ... and only if its centre lies at most this x the dancer's box width
+    # behind the centre of the dancer's box along its stored velocity (a moving dancer; the cone of Algorithm 1*
+    # lies ahead): a tracker that slid back onto the dancer in front follows that dancer's limbs (D 2719 ballet: 44
+    # px behind, similarity 0.42; F 2752 ballet: 56 px behind, on the front dancer's arm). None: no such test
     emerge_hidden_starts: bool = True  # a dancer started mostly hidden (``hidden_start_overlap``) takes the first
     # detection that comes out clear of every other dancer, that no other dancer takes and that does not look like
     # the dancer hiding it (:meth:`MultiDancerTracker._emerge`)
@@ -1867,7 +1875,13 @@ class MultiDancerTracker(ReportedExtent):
         for a dancer lost on the background (``lost_on_background``: its tracker is what drifted there)."""
         if d.lost_on_background:
             return False
-        limit = self.config.own_box_max_shift
+        c = self.config
+        if c.own_box_max_back is not None and float(np.linalg.norm(d.stored_velocity)) >= c.min_speed:
+            heading = d.stored_velocity / np.linalg.norm(d.stored_velocity)
+            ahead = float(np.dot(box_centre(own) - box_centre(d.box), heading))
+            if ahead < -c.own_box_max_back * d.box[2]:
+                return False
+        limit = c.own_box_max_shift
         if limit is None:
             return True
         return abs((own[1] + own[3]) - (d.box[1] + d.box[3])) <= limit * d.box[3]
@@ -1888,6 +1902,8 @@ class MultiDancerTracker(ReportedExtent):
         patches, found = self._cone_candidates(d, detections)
         if c.relocate_height_change:  # as in re-identification: a detection of another height is someone else
             found = [det for det in found if self._height_fits(d, det)]
+        if c.relocate_holder_cores:  # a box around another dancer (and the hidden one) is not the hidden one's
+            found = [det for det in found if not self._around_a_pile(d, det, c.relocate_holder_cores)]
         # the cone's patches are guesses, and those on background are no candidates; the dancer's own tracker
         # (``extra``) and the detections saw something there
         if not c.relocate_patches:
@@ -2185,13 +2201,14 @@ class MultiDancerTracker(ReportedExtent):
                 holder.size_ratio = None  # perhaps learned from that detection
                 self._occlude(holder, [d])
 
-    def _around_a_pile(self, d: DancerTrack, box) -> bool:
-        """Whether ``box`` (x, y, w, h px) holds the body cores of ``reid_pile_cores`` or more dancers in the frame
-        but ``d`` (each at least ``reid_pile_inside`` inside it; occluded ones at their predicted boxes)."""
+    def _around_a_pile(self, d: DancerTrack, box, cores: int | None = None) -> bool:
+        """Whether ``box`` (x, y, w, h px) holds the body cores of ``cores`` (default ``reid_pile_cores``) or more
+        dancers in the frame but ``d`` (each at least ``reid_pile_inside`` inside it; occluded ones at their
+        predicted boxes)."""
         c = self.config
         others = [o for o in self.dancers if o is not d and o.status != OUT]
         held = sum(box_inside(self._core(b), box) >= c.reid_pile_inside for b in self._boxes_now(others))
-        return held >= c.reid_pile_cores
+        return held >= (c.reid_pile_cores if cores is None else cores)
 
     def _stray_people(self, detections) -> list[tuple[float, float, float, float]]:
         """Sure ``detections`` (x, y, w, h px) of this detector frame that no tracked dancer takes
