@@ -353,6 +353,16 @@ def main(argv=None) -> int:
     return 0
 
 
+def _render_crossing(tmp: Path, figures: int, seed: int):
+    """The procedural crossing clip of ``figures`` figures and ``seed`` as ``bench_track.py --sections identity``
+    renders it (150 frames), written into ``tmp``: (video path, :class:`hdvr.tracking.testclips.ClipTruth`)."""
+    from hdvr.tracking.testclips import default_crossing_specs, render_clip
+
+    video = tmp / f"crossing-{figures}-{seed}.mp4"
+    return video, render_clip(video, frames=150, specs=default_crossing_specs(num_figures=figures, seed=seed),
+                              seed=seed)
+
+
 def _write_procedural_hold(path: Path, tmp: Path, detector, figures: int, seed: int, frame_index: int):
     """JPEG ``path``: frame ``frame_index`` of the procedural crossing clip of ``figures`` figures and ``seed`` (as
     ``bench_track.py --sections identity`` renders it), tracked as ``hdvr track`` does from the true first boxes, its
@@ -360,10 +370,8 @@ def _write_procedural_hold(path: Path, tmp: Path, detector, figures: int, seed: 
     boxes and those two runs' boxes ((T, N, 4) px each)."""
     from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
     from hdvr.tracking.pipeline import track_video
-    from hdvr.tracking.testclips import default_crossing_specs, render_clip
 
-    video = tmp / f"crossing-{figures}-{seed}.mp4"
-    truth = render_clip(video, frames=150, specs=default_crossing_specs(num_figures=figures, seed=seed), seed=seed)
+    video, truth = _render_crossing(tmp, figures, seed)
     run = track_video(video, tmp / "out", detector=detector, boxes=truth.boxes[0], detect_every=3, overlay=False,
                       write=False, hindsight=False)
     tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
@@ -381,10 +389,8 @@ def _write_procedural_trim(path: Path, tmp: Path, detector, figures: int, seed: 
     boxes ((T, N, 4) px each)."""
     from hdvr.tracking.multi import MultiTrackerConfig
     from hdvr.tracking.pipeline import track_video
-    from hdvr.tracking.testclips import default_crossing_specs, render_clip
 
-    video = tmp / f"crossing-{figures}-{seed}.mp4"
-    truth = render_clip(video, frames=150, specs=default_crossing_specs(num_figures=figures, seed=seed), seed=seed)
+    video, truth = _render_crossing(tmp, figures, seed)
     tracked = [track_video(video, tmp / "out", detector=detector, boxes=truth.boxes[0], detect_every=3,
                            overlay=False, write=False, config=config).boxes
                for config in (MultiTrackerConfig(foreground_trim=0.0), MultiTrackerConfig())]

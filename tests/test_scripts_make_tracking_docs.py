@@ -18,6 +18,21 @@ def _script(monkeypatch):
     return module
 
 
+class _FindsNoOne:
+    """A detector that runs on every frame it is given and finds no one."""
+
+    def detect(self, frame, frame_index=0):
+        return []
+
+
+def _assert_two_panels(path: Path) -> None:
+    """The picture at ``path`` is two panels side by side (wider than 1.5 x its height)."""
+    import cv2
+
+    picture = cv2.imread(str(path))
+    assert picture is not None and picture.shape[1] > 1.5 * picture.shape[0]
+
+
 def test_two_pictures_of_a_case_are_cropped_alike_and_set_side_by_side(monkeypatch):
     script = _script(monkeypatch)
     frame = np.full((480, 640, 3), 90, np.uint8)
@@ -40,44 +55,28 @@ def test_the_procedural_hold_picture_shows_the_held_and_the_written_boxes_side_b
     drawn with the boxes held where a figure went behind (left) and as written (right). With a detector that finds
     no one (the tracker alone, as the benchmark's first row), figure 0 walks on behind figure 1 and is not taken
     again: held, its box stays 200 px behind it; written, it follows."""
-    import cv2
-
     from hdvr.tracking.evaluation import iou_matrix
 
     script = _script(monkeypatch)
-
-    class FindsNoOne:
-        def detect(self, frame, frame_index=0):
-            return []
-
     path = tmp_path / "hold.jpg"
-    truth, (held, written) = script._write_procedural_hold(path, tmp_path, FindsNoOne(), 3, 2, 110)
+    truth, (held, written) = script._write_procedural_hold(path, tmp_path, _FindsNoOne(), 3, 2, 110)
     assert iou_matrix(held[110, :1], truth[110, :1])[0, 0] < 0.3
     # a match as the benchmark counts it (the box, trimmed to the figure with its arms in, is narrower than the
     # figure with its arms out: ``foreground_trim``, session 60)
     assert iou_matrix(written[110, :1], truth[110, :1])[0, 0] > 0.5
-    picture = cv2.imread(str(path))
-    assert picture is not None and picture.shape[1] > 1.5 * picture.shape[0]  # two panels side by side
+    _assert_two_panels(path)
 
 
 def test_the_procedural_trim_picture_shows_the_boxes_without_and_with_foreground_trim(monkeypatch, tmp_path):
     """``--only procedural-trim``: the procedural crossing clip of 2 figures, seed 9, tracked as ``hdvr track``
     does without (left) and with (right) ``foreground_trim``. With a detector that runs but finds no one, figure 1's
     box keeps its start width (the figure with its arms out) without the trim, and comes in to the figure with it."""
-    import cv2
-
     from hdvr.tracking.evaluation import iou_matrix
 
     script = _script(monkeypatch)
-
-    class FindsNoOne:
-        def detect(self, frame, frame_index=0):
-            return []
-
     path = tmp_path / "trim.jpg"
-    truth, (kept, trimmed) = script._write_procedural_trim(path, tmp_path, FindsNoOne(), 2, 9, 40)
+    truth, (kept, trimmed) = script._write_procedural_trim(path, tmp_path, _FindsNoOne(), 2, 9, 40)
     assert truth[40, 1, 2] < 0.85 * truth[0, 1, 2]  # the figure's arms are in by then
     assert kept[40, 1, 2] > trimmed[40, 1, 2]
     assert iou_matrix(trimmed[40, 1:], truth[40, 1:])[0, 0] > iou_matrix(kept[40, 1:], truth[40, 1:])[0, 0] + 0.1
-    picture = cv2.imread(str(path))
-    assert picture is not None and picture.shape[1] > 1.5 * picture.shape[0]  # two panels side by side
+    _assert_two_panels(path)

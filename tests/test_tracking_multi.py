@@ -2141,9 +2141,10 @@ def test_a_start_box_with_a_margin_around_the_body_keeps_it_when_trimmed(tmp_pat
 
 
 def test_relocation_takes_no_detection_around_another_dancer():
-    """With ``relocate_holder_cores`` 1 (the default, session 60) relocation takes no detection in the cone that holds the body core of another
-    dancer: a box around the dancer in front and the hidden one beside it (hdvr synth D 2719 ballet: a hidden dancer
-    was relocated onto a 174 x 164 px box around her and the dancer in front, her own box 57 x 132)."""
+    """With ``relocate_holder_cores`` 1 (the default, session 60) relocation takes no detection in the cone that
+    holds the body core of another dancer: a box around the dancer in front and the hidden one beside it (hdvr synth
+    D 2719 ballet: a hidden dancer was relocated onto a 174 x 164 px box around her and the dancer in front, her own
+    box 57 x 132)."""
     rng = np.random.default_rng(12)
     start, front = (100.0, 100.0, 60.0, 200.0), (260.0, 100.0, 60.0, 200.0)
     red, blue, green = (30, 40, 210), (200, 60, 40), (60, 170, 80)
@@ -2164,10 +2165,10 @@ def test_relocation_takes_no_detection_around_another_dancer():
 
 
 def test_an_own_tracker_box_behind_the_prediction_is_no_candidate():
-    """With ``own_box_max_back`` 0.5 (the default, session 60) an occluded dancer's own tracker's box is a candidate only if its centre lies at
-    most half the dancer's box width behind the predicted box's along the stored velocity (the cone lies ahead): a
-    tracker that slid back onto the dancer in front's limbs is not (hdvr synth D 2719 ballet, 44 px behind a 57 px
-    wide box). Ahead, or for a dancer barely moving, it is."""
+    """With ``own_box_max_back`` 0.5 (the default, session 60) an occluded dancer's own tracker's box is a candidate
+    only if its centre lies at most half the dancer's box width behind the predicted box's along the stored velocity
+    (the cone lies ahead): a tracker that slid back onto the dancer in front's limbs is not (hdvr synth D 2719
+    ballet, 44 px behind a 57 px wide box). Ahead, or for a dancer barely moving, it is."""
     rng = np.random.default_rng(3)
     box = (300.0, 100.0, 60.0, 200.0)
     frame = _two_colour_frame(rng, [(box, ((30, 40, 210), (200, 60, 40)))])

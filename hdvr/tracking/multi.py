@@ -1433,12 +1433,12 @@ class MultiDancerTracker(ReportedExtent):
         ``foreground_trim_weight`` of the way in to the outermost column that holds more (plus half the start box's
         width margin, :meth:`_box_size`), the box centre's offset from the tracker's following (where that is more
         than ``max_box_offset`` x the width, the tracker restarts on the new box). Foreground columns count only in
-        the run (gaps up to ``pixel_gap``) nearest the tracker's centre. A side is left as it is where it lies outside the frame or where
-        a column to be cut lies in another dancer's box (that foreground is not told apart); the box is left alone
-        where less than ``foreground_trim_min_fill`` of it is foreground (a dancer dressed like the background),
-        and is never narrower than ``foreground_trim_min_aspect`` x its height. Only ever narrows: spread arms
-        widen the box through the detections, and the reported extent (:mod:`hdvr.tracking.extent`) reaches them
-        between those."""
+        the run (gaps up to ``pixel_gap``) nearest the tracker's centre. A side is left as it is where it lies
+        outside the frame or where a column to be cut lies in another dancer's box (that foreground is not told
+        apart); the box is left alone where less than ``foreground_trim_min_fill`` of it is foreground (a dancer
+        dressed like the background), and is never narrower than ``foreground_trim_min_aspect`` x its height. Only
+        ever narrows: spread arms widen the box through the detections, and the reported extent
+        (:mod:`hdvr.tracking.extent`) reaches them between those."""
         c = self.config
         fg = self._foreground(frame)
         width, height = frame.shape[1], frame.shape[0]
@@ -1459,11 +1459,7 @@ class MultiDancerTracker(ReportedExtent):
         centre_column = float(d.tracker.center[0]) - x0
         filled = min(runs, key=lambda run: 0.0 if run[0] <= centre_column <= run[-1] else
                      min(abs(run[0] - centre_column), abs(run[-1] - centre_column)))
-        blocked = np.zeros(x1 - x0, bool)
-        for o in self.dancers:
-            b = clip_box(o.box, (width, height)) if o is not d and o.status != OUT else None
-            if b is not None:
-                blocked[max(0, b[0] - x0):max(0, b[2] - x0)] = True
+        blocked = self._columns_of_others(d, x0, x1, (width, height))
         # a start box with a margin around the body keeps it (half the width margin of :meth:`_box_size` a side)
         pad = 0.0
         if c.width_margin and d.size_ratio is not None and d.ratio_aspect is not None:
@@ -1536,15 +1532,22 @@ class MultiDancerTracker(ReportedExtent):
             return None
         x0, y0, x1, y1 = r
         counts = fg[y0:y1, x0:x1].sum(axis=0)
-        counted = np.ones(x1 - x0, bool)
-        others = [o.box for o in self.dancers if o.status != OUT and o is not d]
-        for b in [clip_box(b, size) for b in others + ([skip] if skip is not None else [])]:
-            if b is not None:
-                counted[max(0, b[0] - x0):max(0, b[2] - x0)] = False
+        counted = ~self._columns_of_others(d, x0, x1, size, [skip] if skip is not None else [])
         if not counted.any():
             return None
         needed = max(3.0, c.pixel_min_thickness * box[3])
         return float((counts[counted] >= needed).mean())
+
+    def _columns_of_others(self, d: DancerTrack, x0: int, x1: int, size, extra=()) -> np.ndarray:
+        """bool mask of the frame columns ``x0`` to ``x1`` (px, exclusive) that lie in the box of a dancer in the
+        frame other than ``d`` or in one of the boxes ``extra`` (x, y, w, h px); ``size``: the frame's (width,
+        height) px."""
+        inside = np.zeros(x1 - x0, bool)
+        others = [o.box for o in self.dancers if o.status != OUT and o is not d]
+        for b in [clip_box(b, size) for b in others + list(extra)]:
+            if b is not None:
+                inside[max(0, b[0] - x0):max(0, b[2] - x0)] = True
+        return inside
 
     def _adapt_box(self, d: DancerTrack, frame, detection, weight: float | None = None, retrack: bool = True) -> None:
         """Move the box of a clear dancer part of the way (``box_adaptation``) towards the one person detected on
@@ -1876,9 +1879,9 @@ class MultiDancerTracker(ReportedExtent):
         if d.lost_on_background:
             return False
         c = self.config
-        if c.own_box_max_back is not None and float(np.linalg.norm(d.stored_velocity)) >= c.min_speed:
-            heading = d.stored_velocity / np.linalg.norm(d.stored_velocity)
-            ahead = float(np.dot(box_centre(own) - box_centre(d.box), heading))
+        speed = float(np.linalg.norm(d.stored_velocity))
+        if c.own_box_max_back is not None and speed >= c.min_speed:
+            ahead = float(np.dot(box_centre(own) - box_centre(d.box), d.stored_velocity / speed))
             if ahead < -c.own_box_max_back * d.box[2]:
                 return False
         limit = c.own_box_max_shift
