@@ -15,7 +15,9 @@ for those of ``CORRECTION`` one with the boxes as tracked (left) and after the f
 of ``scripts/bench_corrections.py`` (right), at the frame after it where the corrected dancer's box gains most, and
 for those of ``PROCEDURAL_HOLD`` a procedural crossing clip of ``bench_track.py --sections identity`` with a figure
 held where it went behind (left, ``HindsightSettings.hold_min_cover`` 0) and as written (right), and for those of
-``PROCEDURAL_TRIM`` one tracked without (left) and with (right) ``MultiTrackerConfig.foreground_trim``.
+``PROCEDURAL_TRIM`` one tracked without (left) and with (right) ``MultiTrackerConfig.foreground_trim``, and for
+those of ``PROCEDURAL_LOST`` a procedural troupe clip (``--sections troupe``) tracked without (left) and with (right)
+the whole-frame search for dancers lost for long (``MultiTrackerConfig.lost_search_after``).
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -61,6 +63,12 @@ PROCEDURAL_HOLD = (
 #: ``MultiTrackerConfig.foreground_trim``
 PROCEDURAL_TRIM = (
     (2, 9, 63, "tracking_foreground_trim_crossing2_s9_063.jpg"),
+)
+#: (figures, seed, frame, picture name): a procedural troupe clip (``bench_track.py --sections troupe``) with the
+#: detector where a figure stands alone while its box, lost in the group, stays there without
+#: ``MultiTrackerConfig.lost_search_after``
+PROCEDURAL_LOST = (
+    (8, 1, 86, "tracking_lost_search_troupe8_s1_086.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (
@@ -246,7 +254,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
                                            "amodal", "unposed", "correction", "timeline", "evaluation",
-                                           "procedural-hold", "procedural-trim"),
+                                           "procedural-hold", "procedural-trim", "procedural-lost"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
@@ -255,7 +263,8 @@ def main(argv=None) -> int:
                              "correction, or "
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
                              "picture of hdvr evaluate tracks --plot, or the procedural crossing held and not held, or "
-                             "the one tracked with and without foreground_trim")
+                             "the one tracked with and without foreground_trim, or the troupe tracked with and "
+                             "without the whole-frame search for lost dancers")
     parser.add_argument("--fields", default=None, metavar="NAME,...",
                         help="with --only before-after: only the pictures of these MultiTrackerConfig fields")
     args = parser.parse_args(argv)
@@ -293,11 +302,13 @@ def main(argv=None) -> int:
             _write_procedural_hold(path, tmp, detector, figures, seed, frame_index)
             print(f"wrote {path}: {figures} procedural figures, seed {seed}, frame {frame_index}, without and with "
                   f"hold_min_cover", file=sys.stderr)
-        for figures, seed, frame_index, name in PROCEDURAL_TRIM if args.only in (None, "procedural-trim") else ():
-            path = args.out / name
-            _write_procedural_trim(path, tmp, detector, figures, seed, frame_index)
-            print(f"wrote {path}: {figures} procedural figures, seed {seed}, frame {frame_index}, without and with "
-                  f"foreground_trim", file=sys.stderr)
+        for only, cases, render, field in (("procedural-trim", PROCEDURAL_TRIM, _render_crossing, "foreground_trim"),
+                                           ("procedural-lost", PROCEDURAL_LOST, _render_troupe, "lost_search_after")):
+            for figures, seed, frame_index, name in cases if args.only in (None, only) else ():
+                path = args.out / name
+                _write_procedural_rule(path, tmp, detector, render(tmp, figures, seed), field, frame_index)
+                print(f"wrote {path}: {figures} procedural figures ({render.__name__[8:]}), seed {seed}, frame "
+                      f"{frame_index}, without and with {field}", file=sys.stderr)
         for seed, index, genre, n, frame_index, name in HINDSIGHT if args.only in (None, "hindsight") else ():
             gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [None, None], [False, True])
             path = args.out / name
@@ -382,20 +393,32 @@ def _write_procedural_hold(path: Path, tmp: Path, detector, figures: int, seed: 
     return truth.boxes, tracked
 
 
-def _write_procedural_trim(path: Path, tmp: Path, detector, figures: int, seed: int, frame_index: int):
-    """JPEG ``path``: frame ``frame_index`` of the procedural crossing clip of ``figures`` figures and ``seed``,
-    tracked as ``hdvr track`` does from the true first boxes with ``MultiTrackerConfig.foreground_trim`` off (left)
-    and as by default (right), both as written (hindsight on). Returns the ground-truth boxes and those two runs'
-    boxes ((T, N, 4) px each)."""
+def _render_troupe(tmp: Path, figures: int, seed: int):
+    """The procedural troupe clip (two rows) of ``figures`` figures and ``seed`` as ``bench_track.py --sections
+    troupe`` renders it (150 frames), written into ``tmp``: (video path, :class:`hdvr.tracking.testclips.ClipTruth`)."""
+    from hdvr.tracking.testclips import render_clip, troupe_specs
+
+    video = tmp / f"troupe-{figures}-{seed}.mp4"
+    return video, render_clip(video, frames=150, specs=troupe_specs(num_figures=figures, seed=seed), seed=seed)
+
+
+def _write_procedural_rule(path: Path, tmp: Path, detector, clip, field: str, frame_index: int):
+    """JPEG ``path``: frame ``frame_index`` of the procedural ``clip`` ((video path, ground truth) of
+    :func:`_render_crossing` or :func:`_render_troupe`), tracked as ``hdvr track`` does from the true first boxes with
+    the ``MultiTrackerConfig`` ``field`` off (left: 0) and as by default (right), both as written (hindsight on).
+    Returns the ground-truth boxes and those two runs' boxes ((T, N, 4) px each)."""
+    from dataclasses import replace
+
     from hdvr.tracking.multi import MultiTrackerConfig
     from hdvr.tracking.pipeline import track_video
 
-    video, truth = _render_crossing(tmp, figures, seed)
+    video, truth = clip
+    default = MultiTrackerConfig()
+    off = replace(default, **{field: type(getattr(default, field))()})
     tracked = [track_video(video, tmp / "out", detector=detector, boxes=truth.boxes[0], detect_every=3,
-                           overlay=False, write=False, config=config).boxes
-               for config in (MultiTrackerConfig(foreground_trim=0.0), MultiTrackerConfig())]
+                           overlay=False, write=False, config=config).boxes for config in (off, default)]
     _write_two_runs(path, video, detector, frame_index, truth.boxes, tracked,
-                    ("foreground_trim off", f"foreground_trim = {MultiTrackerConfig().foreground_trim}"))
+                    (f"{field} off", f"{field} = {getattr(default, field)}"))
     return truth.boxes, tracked
 
 

@@ -75,8 +75,25 @@ def test_the_procedural_trim_picture_shows_the_boxes_without_and_with_foreground
 
     script = _script(monkeypatch)
     path = tmp_path / "trim.jpg"
-    truth, (kept, trimmed) = script._write_procedural_trim(path, tmp_path, _FindsNoOne(), 2, 9, 40)
+    clip = script._render_crossing(tmp_path, 2, 9)
+    truth, (kept, trimmed) = script._write_procedural_rule(path, tmp_path, _FindsNoOne(), clip, "foreground_trim", 40)
     assert truth[40, 1, 2] < 0.85 * truth[0, 1, 2]  # the figure's arms are in by then
     assert kept[40, 1, 2] > trimmed[40, 1, 2]
     assert iou_matrix(trimmed[40, 1:], truth[40, 1:])[0, 0] > iou_matrix(kept[40, 1:], truth[40, 1:])[0, 0] + 0.1
+    _assert_two_panels(path)
+
+
+def test_the_procedural_lost_picture_shows_the_troupe_without_and_with_the_whole_frame_search(monkeypatch, tmp_path):
+    """``--only procedural-lost``: the procedural troupe of 8 figures, seed 1, tracked as ``hdvr track`` does
+    without (left) and with (right) ``lost_search_after``. With a detector that runs but finds no one (the tracker
+    alone), figure 5 comes out of the group at the left and stands alone there: without the search its box stays
+    in the group; with it, the box is on the figure."""
+    from hdvr.tracking.evaluation import iou_matrix
+
+    script = _script(monkeypatch)
+    path = tmp_path / "lost.jpg"
+    clip = script._render_troupe(tmp_path, 8, 1)
+    truth, (stayed, found) = script._write_procedural_rule(path, tmp_path, _FindsNoOne(), clip, "lost_search_after", 86)
+    assert iou_matrix(stayed[86, 5:6], truth[86, 5:6])[0, 0] < 0.1
+    assert iou_matrix(found[86, 5:6], truth[86, 5:6])[0, 0] > 0.5
     _assert_two_panels(path)

@@ -7,7 +7,7 @@ import pytest
 
 from hdvr.tracking.appearance import box_iou, colour_histogram, histogram_similarity
 from hdvr.tracking.evaluation import evaluate_tracking, iou_matrix
-from hdvr.tracking.multi import OCCLUDED, TRACKED, MultiDancerTracker, MultiTrackerConfig
+from hdvr.tracking.multi import OCCLUDED, TRACKED, MultiDancerTracker, MultiTrackerConfig, likely_windows
 from hdvr.tracking.state import box_centre
 from hdvr.tracking.testclips import FigureSpec, default_crossing_specs, render_clip
 from hdvr.video import VideoReader
@@ -1800,29 +1800,42 @@ def test_width_margin_adds_the_start_margin_instead_of_scaling_spread_arms(tmp_p
     assert size_for(spread, True) == pytest.approx([144.0, 240.0])
 
 
+def _crossing_with_a_lost_dancer(tmp_path, frames: int):
+    """The procedural crossing of 2 figures (seed 0, ``frames`` frames; apart from frame 1 on) as true boxes per
+    frame, and a function that tracks it with a ``MultiTrackerConfig``, dancer 0 lost on dancer 1 in frame 1 (its box
+    and last clear box left on the other dancer, occluded there), the true boxes given as detections or not:
+    (dancer 0's status in frames 2 on, its last box)."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=frames, specs=default_crossing_specs(num_figures=2, seed=0))
+    video = list(VideoReader(tmp_path / "clip.mp4"))
+    boxes = [[tuple(float(v) for v in b) for b in frame_boxes] for frame_boxes in truth.boxes]
+    assert box_iou(boxes[1][0], boxes[1][1]) == 0.0
+
+    def track_lost(config: MultiTrackerConfig, detections: bool) -> tuple[list[str], tuple]:
+        tracker = MultiDancerTracker(video[0], boxes[0], config)
+        tracker.step(video[1], boxes[1] if detections else None)
+        lost, other = tracker.dancers
+        lost.box = lost.stored_box = other.box  # it went off with the other dancer and failed there
+        lost.tracker.center = other.tracker.center
+        tracker._occlude(lost, [other])
+        seen = []
+        for t in range(2, frames):
+            tracker.step(video[t], boxes[t] if detections else None)
+            seen.append(lost.status)
+        return seen, lost.box
+
+    return boxes, track_lost
+
+
 def test_an_occluded_dancer_takes_a_stray_person_seen_on_three_detector_frames(tmp_path):
     """A dancer occluded on the far side of the frame from where it shows again (its box and last clear box left
     on the other dancer) is out of reach of re-identification and relocation, which look near its box. A person the
     detector finds clear of every tracked dancer, that no tracked dancer takes, is a *stray*; with
     ``orphan_persist`` 3 the dancer takes it on the third detector frame in a row it is seen, not before; with 2
     (the default since session 47) on the second; with 0 it stays occluded."""
-    truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=2, seed=0))
-    frames = list(VideoReader(tmp_path / "clip.mp4"))
-    boxes = [[tuple(float(v) for v in b) for b in frame_boxes] for frame_boxes in truth.boxes]
-    assert box_iou(boxes[1][0], boxes[1][1]) == 0.0
+    boxes, track_lost = _crossing_with_a_lost_dancer(tmp_path, 8)
 
     def statuses(persist: int) -> tuple[list[str], tuple]:
-        tracker = MultiDancerTracker(frames[0], boxes[0], MultiTrackerConfig(orphan_persist=persist))
-        tracker.step(frames[1], boxes[1])
-        lost, other = tracker.dancers
-        lost.box = lost.stored_box = other.box  # it went off with the other dancer and failed there
-        lost.tracker.center = other.tracker.center
-        tracker._occlude(lost, [other])
-        seen = []
-        for t in range(2, 8):
-            tracker.step(frames[t], boxes[t])
-            seen.append(lost.status)
-        return seen, lost.box
+        return track_lost(MultiTrackerConfig(orphan_persist=persist), detections=True)
 
     seen, box = statuses(3)
     assert seen[:2] == [OCCLUDED, OCCLUDED]
@@ -2181,3 +2194,38 @@ def test_an_own_tracker_box_behind_the_prediction_is_no_candidate():
         d = tracker.dancers[0]
         d.status, d.stored_velocity = OCCLUDED, np.array(velocity)
         assert tracker._own_box_stays(d, own) == stays, (back, velocity, own)
+
+
+def test_a_dancer_occluded_long_is_found_by_the_whole_frame_search_without_a_detector(tmp_path):
+    """A dancer occluded far from where it shows again (its box left on the other dancer) is out of reach of
+    re-identification and relocation, and without a detector no stray person brings it back. With
+    ``lost_search_after`` the whole frame is searched for windows whose colours are its own, clear of the tracked
+    dancers: it is taken at its figure once found there on ``lost_search_persist`` searches in a row; with 0 (off)
+    it stays occluded."""
+    boxes, track_lost = _crossing_with_a_lost_dancer(tmp_path, 10)
+
+    def statuses(after: int) -> tuple[list[str], tuple]:
+        config = MultiTrackerConfig(lost_search_after=after, lost_search_every=1, lost_search_persist=2)
+        return track_lost(config, detections=False)
+
+    seen, box = statuses(2)
+    # searched from the 2nd frame of its occlusion on, found there and on the next search: taken on the 3rd
+    assert seen[:2] == [OCCLUDED, OCCLUDED] and seen[2:] == [TRACKED] * 6
+    assert box_iou(box, boxes[9][0]) > 0.6
+    assert statuses(0)[0] == [OCCLUDED] * 8
+    assert MultiTrackerConfig().lost_search_after == 15
+
+
+def test_likely_windows_are_the_window_sized_places_with_the_highest_mean_weight():
+    """:func:`likely_windows`: centres of the windows with the highest mean weight, best first, at least
+    ``min_mean``, not two on the same place; a patch smaller than the window scores its share of it."""
+    weights = np.zeros((480, 640), np.float32)
+    weights[100:300, 200:260] = 1.0  # a figure 60 x 200 px, centre (230, 200)
+    weights[250:450, 480:540] = 0.7  # a fainter one, centre (510, 350)
+    weights[20:60, 20:40] = 1.0  # a speck
+    centres = likely_windows(weights, (60, 200), 0.5)
+    assert len(centres) == 2
+    np.testing.assert_allclose(centres[0], (230, 200), atol=6)
+    np.testing.assert_allclose(centres[1], (510, 350), atol=6)
+    assert len(likely_windows(weights, (60, 200), 0.8)) == 1
+    assert likely_windows(np.zeros((480, 640), np.float32), (60, 200), 0.1) == []

@@ -55,6 +55,17 @@ def colour_histogram(frame_bgr: np.ndarray, box, shrink: float | tuple[float, fl
     return hist / total if total > 0 else None
 
 
+def colour_bins(frame_bgr: np.ndarray) -> np.ndarray:
+    """(height, width) int index of each pixel's bin in the layout of :func:`colour_histogram`: hue x saturation
+    (``hue_bin * SAT_BINS + sat_bin``) for pixels with a meaningful hue, ``HUE_BINS * SAT_BINS + value_bin`` for the
+    others. A histogram looked up at these indices gives each pixel the weight of its colour (a back-projection)."""
+    hsv = cv2.cvtColor(frame_bgr, cv2.COLOR_BGR2HSV)
+    h, s, v = (hsv[..., k].astype(np.int32) for k in range(3))
+    chromatic = (s > 40) & (v > 40)
+    hue_sat = np.minimum(h * HUE_BINS // 180, HUE_BINS - 1) * SAT_BINS + s * SAT_BINS // 256
+    return np.where(chromatic, hue_sat, HUE_BINS * SAT_BINS + v * VALUE_BINS // 256)
+
+
 def histogram_similarity(a, b) -> float:
     """Correlation of two histograms in [-1, 1]; -1 when either is missing."""
     if a is None or b is None:

@@ -1,0 +1,48 @@
+"""Colour histograms, their per-pixel bins and the foreground mask (hdvr.tracking.appearance)."""
+
+import numpy as np
+
+from hdvr.tracking.appearance import (HUE_BINS, SAT_BINS, VALUE_BINS, colour_bins, colour_histogram,
+                                      foreground_mask, histogram_similarity)
+
+
+def test_colour_bins_counted_in_a_box_give_its_colour_histogram():
+    """Counting :func:`colour_bins` over a box's pixels gives :func:`colour_histogram` of that box (no shrink):
+    the bins are the histogram's, chromatic and dark or grey pixels alike, so a histogram looked up at them is a
+    back-projection."""
+    rng = np.random.default_rng(0)
+    frame = rng.integers(0, 256, (120, 160, 3), dtype=np.uint8)
+    frame[:40, :60] = (30, 30, 30)  # dark: value bins
+    frame[40:80, :60] = (200, 200, 200)  # grey: value bins
+    bins = colour_bins(frame)
+    assert bins.shape == (120, 160)
+    assert bins.min() >= 0 and bins.max() < HUE_BINS * SAT_BINS + VALUE_BINS
+    assert (bins[:80, :60] >= HUE_BINS * SAT_BINS).all()
+    for box in [(20, 10, 80, 90), (0, 0, 60, 80), (100, 50, 60, 70)]:
+        x, y, w, h = box
+        counts = np.bincount(bins[y:y + h, x:x + w].ravel(), minlength=HUE_BINS * SAT_BINS + VALUE_BINS)
+        np.testing.assert_allclose(counts / counts.sum(), colour_histogram(frame, box, shrink=0.0), atol=1e-6)
+
+
+def test_histogram_similarity_tells_colours_apart_and_is_minus_one_without_a_histogram():
+    rng = np.random.default_rng(1)
+    frame = rng.integers(90, 160, (100, 200, 3), dtype=np.uint8)
+    frame[20:80, 10:50] = (0, 0, 220)  # red
+    frame[20:80, 110:150] = (220, 0, 0)  # blue
+    frame[20:80, 160:200] = (0, 0, 200)  # red again
+    red, blue, red2 = (colour_histogram(frame, (x, 20, 40, 60)) for x in (10, 110, 160))
+    assert histogram_similarity(red, red2) > 0.9
+    assert histogram_similarity(red, blue) < 0.2
+    assert histogram_similarity(red, None) == -1.0
+    assert colour_histogram(frame, (500, 20, 40, 60)) is None  # outside the frame
+
+
+def test_foreground_mask_marks_colours_rare_outside_the_boxes():
+    """Pixels whose colour is rare outside the (widened) boxes are foreground: a red figure on a noisy grey
+    background, whatever box it is in; the background is not."""
+    rng = np.random.default_rng(2)
+    frame = rng.integers(90, 160, (240, 320, 3), dtype=np.uint8)
+    frame[60:200, 40:80] = (0, 0, 220)
+    mask = foreground_mask(frame, [(30, 50, 60, 160)])
+    assert mask[70:190, 45:75].mean() > 0.95
+    assert mask[:, 200:].mean() < 0.01
