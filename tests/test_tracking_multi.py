@@ -7,7 +7,7 @@ import pytest
 
 from hdvr.tracking.appearance import box_iou, colour_histogram, histogram_similarity
 from hdvr.tracking.evaluation import evaluate_tracking, iou_matrix
-from hdvr.tracking.multi import OCCLUDED, TRACKED, MultiDancerTracker, MultiTrackerConfig, likely_windows
+from hdvr.tracking.multi import OCCLUDED, OUT, TRACKED, MultiDancerTracker, MultiTrackerConfig, likely_windows
 from hdvr.tracking.state import box_centre
 from hdvr.tracking.testclips import FigureSpec, default_crossing_specs, render_clip
 from hdvr.video import VideoReader
@@ -2229,3 +2229,33 @@ def test_likely_windows_are_the_window_sized_places_with_the_highest_mean_weight
     np.testing.assert_allclose(centres[1], (510, 350), atol=6)
     assert len(likely_windows(weights, (60, 200), 0.8)) == 1
     assert likely_windows(np.zeros((480, 640), np.float32), (60, 200), 0.1) == []
+
+
+def test_a_dancer_predicted_out_of_the_frame_while_occluded_is_found_by_the_whole_frame_search(tmp_path):
+    """A dancer whose predicted box left the frame while it was occluded is out (``out_unseen``: not seen leaving;
+    it may have turned back behind the others). With ``lost_search_out`` the whole-frame search looks for it too,
+    and it is back at its figure; without, it stays out (it left by no edge it could come back at)."""
+    boxes, _ = _crossing_with_a_lost_dancer(tmp_path, 10)
+    video = list(VideoReader(tmp_path / "clip.mp4"))
+
+    def statuses(search_out: bool) -> tuple[list[str], tuple]:
+        config = MultiTrackerConfig(lost_search_after=2, lost_search_every=1, lost_search_out=search_out)
+        tracker = MultiDancerTracker(video[0], boxes[0], config)
+        tracker.step(video[1])
+        lost, other = tracker.dancers
+        lost.box = lost.stored_box = other.box
+        lost.tracker.center = other.tracker.center
+        tracker._occlude(lost, [other])
+        tracker._set_out(lost)
+        lost.out_unseen = True  # as step does when an occluded dancer's prediction leaves the frame
+        seen = []
+        for t in range(2, 10):
+            tracker.step(video[t])
+            seen.append(lost.status)
+        return seen, lost.box
+
+    seen, box = statuses(True)
+    assert seen[:2] == [OUT, OUT] and seen[2:] == [TRACKED] * 6
+    assert box_iou(box, boxes[9][0]) > 0.6
+    assert statuses(False)[0] == [OUT] * 8
+    assert MultiTrackerConfig().lost_search_out
