@@ -2032,6 +2032,7 @@ class MultiDancerTracker(ReportedExtent):
         d.status = TRACKED
         d.missed, d.detected_at_edge = 0, None
         d.lost_on_background = False
+        d.lost_candidate, d.lost_streak = None, 0  # a later search starts afresh
         d.confidence = float(np.clip(score, 0, 1))
         d.centers = [d.body_center]
         d.clear_track = []
@@ -2367,7 +2368,6 @@ class MultiDancerTracker(ReportedExtent):
                     self._back_in_frame(d, frame, box, score)
                 else:
                     self._take(d, box, score, seen_part=False)
-                d.lost_candidate, d.lost_streak = None, 0
 
     def _forget_person(self, box) -> None:
         """A stray person taken by a dancer at ``box`` starts no chain of the next detector frame
