@@ -302,13 +302,14 @@ def main(argv=None) -> int:
             _write_procedural_hold(path, tmp, detector, figures, seed, frame_index)
             print(f"wrote {path}: {figures} procedural figures, seed {seed}, frame {frame_index}, without and with "
                   f"hold_min_cover", file=sys.stderr)
-        for only, cases, render, field in (("procedural-trim", PROCEDURAL_TRIM, _render_crossing, "foreground_trim"),
-                                           ("procedural-lost", PROCEDURAL_LOST, _render_troupe, "lost_search_after")):
+        for only, cases, kind, render, field in (
+                ("procedural-trim", PROCEDURAL_TRIM, "crossing", _render_crossing, "foreground_trim"),
+                ("procedural-lost", PROCEDURAL_LOST, "troupe", _render_troupe, "lost_search_after")):
             for figures, seed, frame_index, name in cases if args.only in (None, only) else ():
                 path = args.out / name
                 _write_procedural_rule(path, tmp, detector, render(tmp, figures, seed), field, frame_index)
-                print(f"wrote {path}: {figures} procedural figures ({render.__name__[8:]}), seed {seed}, frame "
-                      f"{frame_index}, without and with {field}", file=sys.stderr)
+                print(f"wrote {path}: {figures} procedural figures ({kind}), seed {seed}, frame {frame_index}, "
+                      f"without and with {field}", file=sys.stderr)
         for seed, index, genre, n, frame_index, name in HINDSIGHT if args.only in (None, "hindsight") else ():
             gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [None, None], [False, True])
             path = args.out / name

@@ -2316,7 +2316,8 @@ class MultiDancerTracker(ReportedExtent):
             self._forget_person(box)
 
     def _search_lost(self, frame) -> None:
-        """Dancers occluded for ``lost_search_after`` frames are looked for over the whole frame (every
+        """Dancers occluded for ``lost_search_after`` frames (and, with ``lost_search_out``, those whose prediction
+        left the frame while occluded: ``out_unseen``) are looked for over the whole frame (every
         ``lost_search_every`` frames of their occlusion): :func:`likely_windows` of a back-projection of each one's
         memory against the colours of the frame (outside the tracked dancers' boxes), clear of every tracked dancer's
         body core, mostly in the frame and showing foreground (:meth:`_shows_someone`), matched one to one by
@@ -2324,18 +2325,19 @@ class MultiDancerTracker(ReportedExtent):
         (IoU >= 0.3) on ``lost_search_persist`` searches in a row is taken there (a patch of its box's size)."""
         c = self.config
         t = self.frame_index
-        lost = [d for d in self.dancers if (d.status == OCCLUDED or (c.lost_search_out and d.out_unseen))
-                and d.status != TRACKED and d.hidden_behind is None
-                and d.stored_histogram is not None and t - d.occluded_since >= c.lost_search_after
+        searched = [d for d in self.dancers if d.status == OCCLUDED
+                    or (c.lost_search_out and d.status == OUT and d.out_unseen)]
+        lost = [d for d in searched if d.hidden_behind is None and d.stored_histogram is not None
+                and t - d.occluded_since >= c.lost_search_after
                 and (t - d.occluded_since - c.lost_search_after) % c.lost_search_every == 0]
         if not lost:
             return
         bins = colour_bins(frame)
         frame_share = np.bincount(bins.ravel(), minlength=len(lost[0].stored_histogram)) / bins.size
-        tracked = [o for o in self.dancers if o.status == TRACKED]
+        tracked = [o.box for o in self.dancers if o.status == TRACKED]
         size = (frame.shape[1], frame.shape[0])
         outside_tracked = np.ones(bins.shape, np.float32)
-        for r in (clip_box(o.box, size) for o in tracked):
+        for r in (clip_box(b, size) for b in tracked):
             if r is not None:
                 outside_tracked[r[1]:r[3], r[0]:r[2]] = 0.0
         side, end = self._histogram_shrink
@@ -2347,10 +2349,9 @@ class MultiDancerTracker(ReportedExtent):
             window = (d.box[2] * (1 - 2 * side), d.box[3] * (1 - 2 * end))
             centres = likely_windows(own_share[bins] * outside_tracked, window, c.lost_search_min_share)
             boxes = [box_at(p, d.box) for p in centres]
-            others = [o.box for o in tracked]
             boxes = [b for b in boxes if self._inside_fraction(b) >= c.learn_inside
                      and all(self._bodies_overlap(b, o) <= c.overlap_threshold
-                             and box_inside(b, o) <= c.lost_search_max_inside for o in others)]
+                             and box_inside(b, o) <= c.lost_search_max_inside for o in tracked)]
             candidates.append((d, [b for b, shows in zip(boxes, self._shows_someone(frame, d, boxes)) if shows]))
         known = [o for o in self.dancers if (o.status != OUT or o in lost) and o.hidden_behind is None
                  and o.stored_histogram is not None]
