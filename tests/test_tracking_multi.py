@@ -1280,6 +1280,33 @@ def test_once_a_detector_runs_an_occluded_dancer_is_predicted_with_the_detector_
         assert tracker._predicted_box(d, 30) == pytest.approx((100.0 + 120.0 * expected, 100.0, 60.0, 200.0))
 
 
+def test_an_occluded_dancer_s_vertical_prediction_fades_while_it_moves_on_sideways():
+    """``vertical_prediction_frames`` (tau): an occluded dancer's predicted box moves sideways at its stored
+    velocity for as long as it is hidden, but up or down the image only tau x (1 - exp(-t / tau)) frames' worth,
+    never more than tau frames' worth (a figure walking level whose clear track bobbed 1 px/frame downwards was
+    predicted 100 px below itself after 90 frames); 0 gives the linear prediction both ways."""
+    frame = np.random.default_rng(5).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    for tau in (20.0, 0.0):
+        tracker = MultiDancerTracker(frame, [], MultiTrackerConfig(prediction_velocity=1.0,
+                                                                   vertical_prediction_frames=tau))
+        tracker.add_dancer(frame, (100.0, 100.0, 60.0, 200.0))
+        d = tracker.dancers[0]
+        d.stored_velocity, d.stored_box, d.stored_frame = np.array([3.0, 1.0]), (100.0, 100.0, 60.0, 200.0), 10
+        assert tracker._travel(d, 10) == pytest.approx([0.0, 0.0])
+        for elapsed in (1, 10, 20, 90, 400):
+            travel = tracker._travel(d, 10 + elapsed)
+            assert travel[0] == pytest.approx(3.0 * elapsed)  # sideways: on at its stored velocity
+            if tau:
+                assert travel[1] == pytest.approx(tau * (1 - np.exp(-elapsed / tau)))
+                assert travel[1] < min(elapsed, tau)
+            else:
+                assert travel[1] == pytest.approx(elapsed)
+        if tau:  # the first frames almost as the stored velocity says, then it stops
+            assert tracker._travel(d, 11)[1] == pytest.approx(0.975, abs=0.01)
+            assert tracker._predicted_box(d, 100)[1] == pytest.approx(100.0 + 20.0 * (1 - np.exp(-4.5)))
+    assert MultiTrackerConfig().vertical_prediction_frames == 60.0
+
+
 def test_the_detector_fraction_is_only_for_a_dancer_the_detector_found_before_it_was_hidden():
     """With ``detector_velocity_if_found``, a dancer that no person was detected on (never, or not on the last
     detector frame it was clear) is predicted with ``prediction_velocity``; off, every dancer gets the detector
