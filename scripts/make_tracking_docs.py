@@ -70,6 +70,12 @@ PROCEDURAL_TRIM = (
 PROCEDURAL_LOST = (
     (8, 1, 86, "tracking_lost_search_troupe8_s1_086.jpg"),
 )
+#: (figures, seed, frame, picture name): a procedural crossing clip of a held-out seed with the detector where a
+#: figure walking level, hidden for long, is predicted sinking below itself without
+#: ``MultiTrackerConfig.vertical_prediction_frames``
+PROCEDURAL_VERTICAL = (
+    (4, 14, 80, "tracking_vertical_prediction_crossing4_s14_080.jpg"),
+)
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (
     (1412, 5, "ballet", 4, 89, "tracking_hindsight_s1412_ballet_089.jpg"),
@@ -254,7 +260,8 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
                                            "amodal", "unposed", "correction", "timeline", "evaluation",
-                                           "procedural-hold", "procedural-trim", "procedural-lost"),
+                                           "procedural-hold", "procedural-trim", "procedural-lost",
+                                           "procedural-vertical"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
@@ -264,7 +271,8 @@ def main(argv=None) -> int:
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
                              "picture of hdvr evaluate tracks --plot, or the procedural crossing held and not held, or "
                              "the one tracked with and without foreground_trim, or the troupe tracked with and "
-                             "without the whole-frame search for lost dancers")
+                             "without the whole-frame search for lost dancers, or the crossing tracked with and "
+                             "without the fading vertical prediction")
     parser.add_argument("--fields", default=None, metavar="NAME,...",
                         help="with --only before-after: only the pictures of these MultiTrackerConfig fields")
     args = parser.parse_args(argv)
@@ -304,7 +312,9 @@ def main(argv=None) -> int:
                   f"hold_min_cover", file=sys.stderr)
         for only, cases, kind, render, field in (
                 ("procedural-trim", PROCEDURAL_TRIM, "crossing", _render_crossing, "foreground_trim"),
-                ("procedural-lost", PROCEDURAL_LOST, "troupe", _render_troupe, "lost_search_after")):
+                ("procedural-lost", PROCEDURAL_LOST, "troupe", _render_troupe, "lost_search_after"),
+                ("procedural-vertical", PROCEDURAL_VERTICAL, "crossing", _render_crossing,
+                 "vertical_prediction_frames")):
             for figures, seed, frame_index, name in cases if args.only in (None, only) else ():
                 path = args.out / name
                 _write_procedural_rule(path, tmp, detector, render(tmp, figures, seed), field, frame_index)
