@@ -1354,6 +1354,9 @@ def test_the_cone_search_gives_its_patches_and_the_detections_in_the_cone_apart(
     centres = np.array([[p[0] + p[2] / 2 - 130.0, p[1] + p[3] / 2 - 200.0] for p in patches])
     angles = np.degrees(np.arctan2(centres[:, 1], centres[:, 0]))
     assert np.abs(angles).max() == pytest.approx(config.cone_half_angle_deg)
+    # a dancer crossing a floor keeps its level: at 120 px of travel no patch lies more than 33 px above or below
+    # it (12 degrees; 25 reached 66 px and took a dancer again on a patch above its figure: session 62)
+    assert config.cone_half_angle_deg == 12.0 and np.abs(centres[:, 1]).max() < 33.0
     assert found == [ahead]
 
 
