@@ -17,7 +17,9 @@ for those of ``PROCEDURAL_HOLD`` a procedural crossing clip of ``bench_track.py 
 held where it went behind (left, ``HindsightSettings.hold_min_cover`` 0) and as written (right), and for those of
 ``PROCEDURAL_TRIM`` one tracked without (left) and with (right) ``MultiTrackerConfig.foreground_trim``, and for
 those of ``PROCEDURAL_LOST`` a procedural troupe clip (``--sections troupe``) tracked without (left) and with (right)
-the whole-frame search for dancers lost for long (``MultiTrackerConfig.lost_search_after``).
+the whole-frame search for dancers lost for long (``MultiTrackerConfig.lost_search_after``), and for those of
+``PROCEDURAL_VERTICAL`` a procedural crossing tracked without (left) and with (right) the fading vertical prediction
+(``MultiTrackerConfig.vertical_prediction_frames``).
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -277,11 +279,8 @@ def main(argv=None) -> int:
                         help="with --only before-after: only the pictures of these MultiTrackerConfig fields")
     args = parser.parse_args(argv)
 
-    from dataclasses import replace
-
     from hdvr.commands.evaluate import plot_tracks, score_tracks
     from hdvr.pipeline import make_detector
-    from hdvr.tracking.multi import MultiTrackerConfig
     from hdvr.tracking.pipeline import track_video
 
     detector = make_detector("yolo11n", 480, threads=2)  # as hdvr track has it, weak finds included
@@ -298,12 +297,10 @@ def main(argv=None) -> int:
                 else ():
             if fields is not None and field not in fields:
                 continue
-            default = MultiTrackerConfig()
-            off = replace(default, **{field: type(getattr(default, field))()})  # 0, 0.0 or False
-            gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, [off, default])
+            configs, titles = _field_off_and_default(field)
+            gt, tracked, video = _track_case(tmp, detector, seed, index, genre, n, configs)
             path = args.out / name
-            _write_two_runs(path, video, detector, frame_index, gt, tracked,
-                            (f"{field} off", f"{field} = {getattr(default, field)}"))
+            _write_two_runs(path, video, detector, frame_index, gt, tracked, titles)
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, {field} off and on", file=sys.stderr)
         for figures, seed, frame_index, name in PROCEDURAL_HOLD if args.only in (None, "procedural-hold") else ():
             path = args.out / name
@@ -413,23 +410,30 @@ def _render_troupe(tmp: Path, figures: int, seed: int):
     return video, render_clip(video, frames=150, specs=troupe_specs(num_figures=figures, seed=seed), seed=seed)
 
 
+def _field_off_and_default(field: str):
+    """The ``MultiTrackerConfig`` with ``field`` off (0, 0.0 or False) and the default one, and the two pictures'
+    titles: ((off, default), (title off, title default))."""
+    from dataclasses import replace
+
+    from hdvr.tracking.multi import MultiTrackerConfig
+
+    default = MultiTrackerConfig()
+    off = replace(default, **{field: type(getattr(default, field))()})
+    return (off, default), (f"{field} off", f"{field} = {getattr(default, field)}")
+
+
 def _write_procedural_rule(path: Path, tmp: Path, detector, clip, field: str, frame_index: int):
     """JPEG ``path``: frame ``frame_index`` of the procedural ``clip`` ((video path, ground truth) of
     :func:`_render_crossing` or :func:`_render_troupe`), tracked as ``hdvr track`` does from the true first boxes with
     the ``MultiTrackerConfig`` ``field`` off (left: 0) and as by default (right), both as written (hindsight on).
     Returns the ground-truth boxes and those two runs' boxes ((T, N, 4) px each)."""
-    from dataclasses import replace
-
-    from hdvr.tracking.multi import MultiTrackerConfig
     from hdvr.tracking.pipeline import track_video
 
     video, truth = clip
-    default = MultiTrackerConfig()
-    off = replace(default, **{field: type(getattr(default, field))()})
+    configs, titles = _field_off_and_default(field)
     tracked = [track_video(video, tmp / "out", detector=detector, boxes=truth.boxes[0], detect_every=3,
-                           overlay=False, write=False, config=config).boxes for config in (off, default)]
-    _write_two_runs(path, video, detector, frame_index, truth.boxes, tracked,
-                    (f"{field} off", f"{field} = {getattr(default, field)}"))
+                           overlay=False, write=False, config=config).boxes for config in configs]
+    _write_two_runs(path, video, detector, frame_index, truth.boxes, tracked, titles)
     return truth.boxes, tracked
 
 

@@ -11,6 +11,8 @@ import cv2
 import numpy as np
 
 HUE_BINS, SAT_BINS, VALUE_BINS = 16, 8, 8
+#: saturation and value (0-255) above which a pixel's hue counts (hue x saturation bins); below, its value bin
+MIN_CHROMA = 40
 
 
 def clip_box(box, size) -> tuple[int, int, int, int] | None:
@@ -43,7 +45,7 @@ def colour_histogram(frame_bgr: np.ndarray, box, shrink: float | tuple[float, fl
     sub_mask = None if mask is None else np.ascontiguousarray(mask[y0:y1, x0:x1])
     if sub_mask is not None and not sub_mask.any():
         return None
-    chromatic = ((hsv[..., 1] > 40) & (hsv[..., 2] > 40)).astype(np.uint8) * 255
+    chromatic = ((hsv[..., 1] > MIN_CHROMA) & (hsv[..., 2] > MIN_CHROMA)).astype(np.uint8) * 255
     achromatic = 255 - chromatic
     if sub_mask is not None:
         chromatic &= sub_mask
@@ -61,7 +63,7 @@ def colour_bins(frame_bgr: np.ndarray) -> np.ndarray:
     others. A histogram looked up at these indices gives each pixel the weight of its colour (a back-projection)."""
     hsv = cv2.cvtColor(frame_bgr, cv2.COLOR_BGR2HSV)
     h, s, v = (hsv[..., k].astype(np.int32) for k in range(3))
-    chromatic = (s > 40) & (v > 40)
+    chromatic = (s > MIN_CHROMA) & (v > MIN_CHROMA)
     hue_sat = np.minimum(h * HUE_BINS // 180, HUE_BINS - 1) * SAT_BINS + s * SAT_BINS // 256
     return np.where(chromatic, hue_sat, HUE_BINS * SAT_BINS + v * VALUE_BINS // 256)
 
