@@ -2289,3 +2289,19 @@ def test_a_dancer_predicted_out_of_the_frame_while_occluded_is_found_by_the_whol
     assert box_iou(box, boxes[9][0]) > 0.6
     assert statuses(False)[0] == [OUT] * 8
     assert MultiTrackerConfig().lost_search_out
+
+
+def test_a_clear_dancer_s_stored_velocity_is_capped_up_and_down_the_image():
+    """``max_vertical_speed`` (box heights per frame): the vertical part of the velocity fitted on a clear track is
+    capped there, the sideways part is not. A tracker that jumps up or down after a relocation (striped figures,
+    procedural groups of 8) otherwise gives a hidden dancer a vertical velocity its figure does not have."""
+    frame = np.random.default_rng(5).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    box = (100.0, 100.0, 60.0, 200.0)
+    for cap, vy in ((0.0, 6.0), (0.01, 2.0)):
+        tracker = MultiDancerTracker(frame, [box], MultiTrackerConfig(max_vertical_speed=cap))
+        d = tracker.dancers[0]
+        d.clear_track = [(t, np.array([130.0 + 3.0 * t, 200.0 + 6.0 * t])) for t in range(10)]  # 3 right, 6 down
+        assert tracker._clear_velocity(d) == pytest.approx([3.0, vy])
+        d.clear_track = [(t, np.array([130.0 + 3.0 * t, 200.0 - 6.0 * t])) for t in range(10)]  # ... 6 up
+        assert tracker._clear_velocity(d) == pytest.approx([3.0, -vy])
+    assert MultiTrackerConfig().max_vertical_speed == 0.005

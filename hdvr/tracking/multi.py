@@ -393,6 +393,15 @@ class MultiTrackerConfig:
     feet_of_detections_only: bool = True  # ... a detection only: a dancer taken again on a patch of its own box
     # size (cone search, its own tracker) keeps the patch as it is; a patch a little up the motion direction grew
     # by that much each time (seed 304 ballet: 134 -> 185 px in two relocations, then 2 identity switches)
+    max_vertical_speed: float = 0.005  # x box height per frame: the stored velocity's vertical part is capped
+    # there (0: only ``max_speed``). Dancers on a floor seen from the side move up or down the image only by walking
+    # towards or away from the camera: in the rendered hdvr synth sets D, F, G the ground-truth boxes' centres move
+    # 0.0007 box heights per frame (median over 15 frames; 99th percentile 0.0056). A tracker taken again on a
+    # patch off its figure jumps back to it over the next frames, and those clear frames gave a hidden figure a
+    # vertical velocity of 5.7-10.9 px/frame (procedural groups of 8, boxes 192 px: 0.03-0.06) that carried its
+    # predicted box 100-270 px off (session 63). 0.005: groups failing runs 7 -> 5 of 24, switches 8 -> 4;
+    # crossings seeds 0-11 unchanged; rendered D, F, G, H the same 10 of 420 failing, D 2716 flamenco switches 2
+    # -> 0; 0.01: groups 7 failing, 5 switches
     vertical_prediction_frames: float = 60.0  # with tau > 0, an occluded dancer's predicted box moves up or down
     # the image as if its stored vertical velocity faded with this time constant (frames): tau x (1 - exp(-t / tau))
     # frames' worth after t frames, never more than tau frames' worth; sideways it moves on at its stored velocity.
@@ -1074,7 +1083,7 @@ class MultiDancerTracker(ReportedExtent):
                 d.clear_track = [(f, p) for f, p in d.clear_track if f >= t - c.velocity_window] + [(t, d.body_center)]
                 if d.clear_track[-1][0] - d.clear_track[0][0] >= c.min_velocity_span:
                     d.velocity_measured = True
-                    d.stored_velocity = self._fit_velocity(d.clear_track, c.max_speed * d.box[3])
+                    d.stored_velocity = self._clear_velocity(d)
                 hist = self._histogram(frame, d.box) if d.missed == 0 else None
                 if hist is not None:
                     d.stored_histogram = hist if d.stored_histogram is None else \
@@ -1861,6 +1870,16 @@ class MultiDancerTracker(ReportedExtent):
         if len(touching) != 1 or any(box_inside(core, touching[0]) < c.group_shared_inside for core in cores):
             return None
         return tuple(float(v) for v in touching[0])
+
+    def _clear_velocity(self, d: DancerTrack) -> np.ndarray:
+        """Dancer ``d``'s velocity (px/frame) fitted on its clear track (:meth:`_fit_velocity`), at most
+        ``max_speed`` box heights per frame, and up or down the image at most ``max_vertical_speed``."""
+        c = self.config
+        v = self._fit_velocity(d.clear_track, c.max_speed * d.box[3])
+        if c.max_vertical_speed > 0:
+            limit = c.max_vertical_speed * d.box[3]
+            v[1] = float(np.clip(v[1], -limit, limit))
+        return v
 
     @staticmethod
     def _fit_velocity(track, max_speed: float = np.inf) -> np.ndarray:
