@@ -19,7 +19,9 @@ held where it went behind (left, ``HindsightSettings.hold_min_cover`` 0) and as 
 those of ``PROCEDURAL_LOST`` a procedural troupe clip (``--sections troupe``) tracked without (left) and with (right)
 the whole-frame search for dancers lost for long (``MultiTrackerConfig.lost_search_after``), and for those of
 ``PROCEDURAL_VERTICAL`` a procedural crossing tracked without (left) and with (right) the fading vertical prediction
-(``MultiTrackerConfig.vertical_prediction_frames``).
+(``MultiTrackerConfig.vertical_prediction_frames``), and for those of ``PROCEDURAL_VERTICAL_CAP`` a procedural troupe
+tracked without (left) and with (right) the cap on a clear dancer's stored vertical velocity
+(``MultiTrackerConfig.max_vertical_speed``).
 
     MUJOCO_GL=egl python3 scripts/make_tracking_docs.py
 """
@@ -77,6 +79,12 @@ PROCEDURAL_LOST = (
 #: ``MultiTrackerConfig.vertical_prediction_frames``
 PROCEDURAL_VERTICAL = (
     (4, 14, 80, "tracking_vertical_prediction_crossing4_s14_080.jpg"),
+)
+#: (figures, seed, frame, picture name): a procedural troupe clip with the detector where a figure's tracker,
+#: taken again on a patch off its figure, jumped back to it and gave the figure a vertical velocity that carries its
+#: hidden box far below it without ``MultiTrackerConfig.max_vertical_speed``
+PROCEDURAL_VERTICAL_CAP = (
+    (8, 1, 100, "tracking_vertical_cap_troupe8_s1_100.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame inside an occluded stretch filled with hindsight
 HINDSIGHT = (
@@ -263,7 +271,7 @@ def main(argv=None) -> int:
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
                                            "amodal", "unposed", "correction", "timeline", "evaluation",
                                            "procedural-hold", "procedural-trim", "procedural-lost",
-                                           "procedural-vertical"),
+                                           "procedural-vertical", "procedural-vertical-cap"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
@@ -274,7 +282,8 @@ def main(argv=None) -> int:
                              "picture of hdvr evaluate tracks --plot, or the procedural crossing held and not held, or "
                              "the one tracked with and without foreground_trim, or the troupe tracked with and "
                              "without the whole-frame search for lost dancers, or the crossing tracked with and "
-                             "without the fading vertical prediction")
+                             "without the fading vertical prediction, or the troupe tracked with and without the "
+                             "cap on the stored vertical velocity")
     parser.add_argument("--fields", default=None, metavar="NAME,...",
                         help="with --only before-after: only the pictures of these MultiTrackerConfig fields")
     args = parser.parse_args(argv)
@@ -311,7 +320,8 @@ def main(argv=None) -> int:
                 ("procedural-trim", PROCEDURAL_TRIM, "crossing", _render_crossing, "foreground_trim"),
                 ("procedural-lost", PROCEDURAL_LOST, "troupe", _render_troupe, "lost_search_after"),
                 ("procedural-vertical", PROCEDURAL_VERTICAL, "crossing", _render_crossing,
-                 "vertical_prediction_frames")):
+                 "vertical_prediction_frames"),
+                ("procedural-vertical-cap", PROCEDURAL_VERTICAL_CAP, "troupe", _render_troupe, "max_vertical_speed")):
             for figures, seed, frame_index, name in cases if args.only in (None, only) else ():
                 path = args.out / name
                 _write_procedural_rule(path, tmp, detector, render(tmp, figures, seed), field, frame_index)

@@ -120,3 +120,23 @@ def test_the_procedural_vertical_picture_shows_the_crossing_without_and_with_the
     assert iou_matrix(level[80, 3:4], truth[80, 3:4])[0, 0] > 0.5
     assert abs(level[80, 3, 1] - truth[80, 3, 1]) < 15
     _assert_two_panels(path, 1.3)  # crops of figures 320 px tall: each panel nearly as tall as wide
+
+
+def test_the_procedural_vertical_cap_picture_shows_the_troupe_without_and_with_the_cap(monkeypatch, tmp_path):
+    """``--only procedural-vertical-cap``: the procedural troupe of 8 figures, seed 1, tracked as ``hdvr track``
+    does, with YOLO11n-pose at 480 px on every 3rd frame, without (left) and with (right) ``max_vertical_speed``.
+    Figure 0 walks level; its tracker, taken again on a patch beside it, jumped back to it over a few clear frames,
+    and without the cap the vertical velocity of those frames carries its hidden box down: over 80 px below the
+    figure by frame 100 (IoU under 0.2); with the cap its box is on the figure (IoU over 0.5)."""
+    from hdvr.pipeline import make_detector
+    from hdvr.tracking.evaluation import iou_matrix
+
+    script = _script(monkeypatch)
+    path = tmp_path / "cap.jpg"
+    clip = script._render_troupe(tmp_path, 8, 1)
+    detector = make_detector("yolo11n", 480, threads=2)
+    truth, (sank, capped) = script._write_procedural_rule(path, tmp_path, detector, clip, "max_vertical_speed", 100)
+    assert iou_matrix(sank[100, 0:1], truth[100, 0:1])[0, 0] < 0.2
+    assert sank[100, 0, 1] > truth[100, 0, 1] + 80
+    assert iou_matrix(capped[100, 0:1], truth[100, 0:1])[0, 0] > 0.5
+    _assert_two_panels(path, 2.0)
