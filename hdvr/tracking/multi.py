@@ -401,7 +401,8 @@ class MultiTrackerConfig:
     # vertical velocity of 5.7-10.9 px/frame (procedural groups of 8, boxes 192 px: 0.03-0.06) that carried its
     # predicted box 100-270 px off (session 63). 0.005: groups failing runs 7 -> 5 of 24, switches 8 -> 4;
     # crossings seeds 0-11 unchanged; rendered D, F, G, H the same 10 of 420 failing, D 2716 flamenco switches 2
-    # -> 0; 0.01: groups 7 failing, 5 switches
+    # -> 0; 0.01: groups 7 failing, 5 switches; 0.0025: groups 4 failing, but D 2704 ballet 0.975 -> 0.848 (a far
+    # dancer hidden for most of the clip, whose vertical motion is real) and D 2716 back to 2 switches
     vertical_prediction_frames: float = 60.0  # with tau > 0, an occluded dancer's predicted box moves up or down
     # the image as if its stored vertical velocity faded with this time constant (frames): tau x (1 - exp(-t / tau))
     # frames' worth after t frames, never more than tau frames' worth; sideways it moves on at its stored velocity.
