@@ -98,13 +98,14 @@ def test_a_second_run_takes_the_detector_s_people_from_the_cache_and_writes_the_
     first, again, other = _CountingDetector(), _CountingDetector(), _CountingDetector(setting=2)
     runs = [track_video(path, tmp_path / "a", detector=d, boxes=boxes, detect_every=2, overlay=False,
                         timeline=False, detections_cache=cache) for d in (first, again)]
-    assert first.whole == 12 and again.whole == 0 and runs[1].detections_reused == 12
+    # every 2nd of 24 frames and the last
+    assert first.whole == 13 and again.whole == 0 and runs[1].detections_reused == 13
     assert cache in runs[0].outputs
     np.testing.assert_array_equal(runs[0].boxes, runs[1].boxes)
     np.testing.assert_array_equal(runs[0].keypoints, runs[1].keypoints)
     track_video(path, tmp_path / "b", detector=other, boxes=boxes, detect_every=2, overlay=False, timeline=False,
                 detections_cache=cache)
-    assert other.whole == 12  # other settings: the file does not hold their people, and is replaced
+    assert other.whole == 13  # other settings: the file does not hold their people, and is replaced
     assert load_detections(cache, {"video": {}, "detector": {}}) == {}
     more = _CountingDetector()
     track_video(path, tmp_path / "c", detector=more, boxes=boxes, detect_every=1, overlay=False, timeline=False,

@@ -447,7 +447,8 @@ def test_a_dancer_in_view_the_whole_frame_misses_gets_its_pose_from_a_crop(tmp_p
         crops[zoom], boxes[zoom] = detector.crops, run.boxes
         if zoom:
             keypoints = run.keypoints
-    assert crops[False] == [] and len(crops[True]) == 10  # one crop per detector frame, about the second only
+    # one crop per detector frame (every 3rd and the last), about the second only
+    assert crops[False] == [] and len(crops[True]) == 11
     heights = truth.boxes[::3, 1, 3]
     assert all(max(shape) <= UNPOSED_ZOOM_SIDE * heights.max() + 2 for shape in crops[True])  # square, 2 x its box
     assert posed[True].all() and not posed[False].any()
@@ -827,7 +828,8 @@ def test_track_again_into_the_same_folder_reuses_the_detector_s_people(clip, tmp
     first = (out / "tracks.json").read_text()
     assert "detections.npz" in capsys.readouterr().out
     assert main(args) == 0
-    assert "the detector's people on 4 frames came from" in capsys.readouterr().out
+    # frames 0, 3, 6, 9 and the last, 11
+    assert "the detector's people on 5 frames came from" in capsys.readouterr().out
     assert (out / "tracks.json").read_text() == first
     assert main([*args[:3], str(tmp_path / "fresh"), *args[4:], "--no-detection-cache"]) == 0
     assert "came from" not in capsys.readouterr().out and not (tmp_path / "fresh" / "detections.npz").exists()
@@ -858,3 +860,24 @@ def test_tracks_json_of_a_run_starts_the_next_with_its_corrections_and_swaps(cli
     assert [(c["frame"], c["dancer"]) for c in more["corrections"]] == [(30, 1), (50, 0)]
     assert more["corrections"][0]["box"] == [float(v) for v in truth.boxes[30, 1]]  # the command line's
     assert more["swaps"] == doc["swaps"]
+
+
+def test_the_detector_also_runs_on_the_last_frame_so_the_last_frames_get_keypoints(tmp_path):
+    """With the detector on every 3rd frame, a 50-frame clip's last detector frame would be 48, and frame 49 would
+    have no keypoints (nothing after it to interpolate towards). The detector also runs on the last frame, known
+    from the video's length or ``max_frames``, so every frame of a dancer found throughout has keypoints."""
+    from hdvr.tracking.pipeline import track_video
+
+    path = tmp_path / "stack.mp4"
+    specs = [FigureSpec((160.0, 130.0), (0.0, 0.0), 150.0, ((40, 40, 210), (40, 200, 230)), depth=0.0),
+             FigureSpec((420.0, 130.0), (0.0, 0.0), 150.0, ((200, 60, 40), (230, 200, 40)), depth=0.0)]
+    truth = render_clip(path, frames=50, size=(640, 480), specs=specs)
+    detector = _sees_what_is_clear(truth)
+    run = track_video(path, tmp_path / "out", detector=detector, boxes=truth.boxes[0], detect_every=3,
+                      overlay=False, write=False)
+    assert np.flatnonzero(run.detected).tolist() == list(range(0, 50, 3)) + [49]
+    assert (run.keypoints[..., 2] > 0).any(axis=-1).all()  # every frame, both dancers
+    short = track_video(path, tmp_path / "out2", detector=detector, boxes=truth.boxes[0], detect_every=3,
+                        overlay=False, write=False, max_frames=44)
+    assert np.flatnonzero(short.detected).tolist() == list(range(0, 44, 3)) + [43]
+    assert (short.keypoints[..., 2] > 0).any(axis=-1).all()

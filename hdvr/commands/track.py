@@ -25,8 +25,8 @@ def register(subparsers) -> None:
                    help="longer side of the detector input in pixels (default 480; 640 is more accurate, 320 "
                         "faster: see docs/benchmarks.md)")
     p.add_argument("--detect-every", type=int, default=3,
-                   help="run the detector on every k-th frame, the tracker on all, keypoints interpolated in "
-                        "between (default 3)")
+                   help="run the detector on every k-th frame (and the last), the tracker on all, keypoints "
+                        "interpolated in between (default 3)")
     p.add_argument("--weak-threshold", type=float, default=None,
                    help="ONNX detectors: people scoring from this up to 0.3 are weak finds, used only to update "
                         "the boxes of dancers followed (default 0.2; 0.3 turns them off; see docs/tracking.md)")

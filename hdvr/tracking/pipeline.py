@@ -344,7 +344,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     ``boxes``: initial (x, y, w, h) px boxes in the first frame, or None to find ``num_dancers`` people with the
     detector in the first ``init_seconds`` of the video (each starts where it is first seen); ``starts`` gives the
     start frames and boxes directly instead (dancers are numbered in the order they start). ``detect_every``: run
-    the detector on every k-th frame only (keypoints in between are interpolated). ``detector`` None: boxes only,
+    the detector on every k-th frame only, and on the last frame where the video's length (or ``max_frames``) is
+    known (keypoints in between are interpolated). ``detector`` None: boxes only,
     no keypoints. ``zoom_hidden``: on detector frames, while a dancer that started hidden behind another waits to
     come out, the detector also runs on a crop about its box (:func:`zoom_detections`; not for detectors with
     ``supports_crops`` False, such as precomputed OpenPose output). ``zoom_unposed``: on detector frames, a dancer
@@ -383,11 +384,12 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         if detector_key is not None:
             cache_signature = {"video": video_signature(video, info.size), "detector": detector_key}
             detector = CachingDetector(detector, info.size, load_detections(detections_cache, cache_signature))
+    # the last frame to be tracked, where known: the detector runs there too (below), and starts must lie before it
+    last = info.num_frames - 1 if info.num_frames else None
+    if max_frames:
+        last = max_frames - 1 if last is None else min(last, max_frames - 1)
     if starts is not None:
         starts = sorted(starts, key=lambda s: s.frame)  # dancers are numbered in the order they start
-        last = info.num_frames - 1 if info.num_frames else None
-        if max_frames:
-            last = max_frames - 1 if last is None else min(last, max_frames - 1)
         for i, s in enumerate(starts):
             if s.frame < 0:
                 raise HDVRError(f"dancer {i} starts at frame {s.frame}: frames are counted from 0")
@@ -435,7 +437,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         tic = time.perf_counter()
         for frame in frames:
             stage["decode"] += time.perf_counter() - tic
-            run_detector = detector is not None and t % detect_every == 0
+            # every k-th frame, and the last: the frames after the last k-th one are then interpolated like all
+            # others, not left without keypoints (a container that misreports its length only loses that)
+            run_detector = detector is not None and (t % detect_every == 0 or t == last)
             people, weak = [], []
             if run_detector:
                 tic = time.perf_counter()
