@@ -384,7 +384,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
         if detector_key is not None:
             cache_signature = {"video": video_signature(video, info.size), "detector": detector_key}
             detector = CachingDetector(detector, info.size, load_detections(detections_cache, cache_signature))
-    # the last frame to be tracked, where known: the detector runs there too (below), and starts must lie before it
+    # the last frame to be tracked, where known: the detector runs there too (below), and no start may lie after it
     last = info.num_frames - 1 if info.num_frames else None
     if max_frames:
         last = max_frames - 1 if last is None else min(last, max_frames - 1)
