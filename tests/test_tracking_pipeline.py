@@ -868,7 +868,7 @@ def test_the_detector_also_runs_on_the_last_frame_so_the_last_frames_get_keypoin
     from the video's length or ``max_frames``, so every frame of a dancer found throughout has keypoints."""
     from hdvr.tracking.pipeline import track_video
 
-    path = tmp_path / "stack.mp4"
+    path = tmp_path / "pair.mp4"
     specs = [FigureSpec((160.0, 130.0), (0.0, 0.0), 150.0, ((40, 40, 210), (40, 200, 230)), depth=0.0),
              FigureSpec((420.0, 130.0), (0.0, 0.0), 150.0, ((200, 60, 40), (230, 200, 40)), depth=0.0)]
     truth = render_clip(path, frames=50, size=(640, 480), specs=specs)

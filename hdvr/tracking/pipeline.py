@@ -429,7 +429,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     tracker = None
     hidden_starts = []
     failure: BaseException | None = None
-    total = min(info.num_frames or 0, max_frames or 10 ** 12) or None
+    total = last + 1 if info.num_frames else None  # frames to track, for the progress bar (None: unknown)
     frames = iter(reader)
     bar = progress(total=total, desc="track", unit="frame")
     try:
