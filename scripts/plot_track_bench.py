@@ -9,13 +9,20 @@ starts hidden (the "starts hidden" column of the tables since session 14). Where
 "IDF1 / switches at IoU 0.4" (since session 12), a clip below the target or with switches also gets a grey tick at
 that IDF1: how much of its loss is box extent rather than identity.
 
+``--per-clip-json F ...`` plots the per-clip scores that ``scripts/hindsight_runs.py score --per-clip-json`` and
+``scripts/bench_track.py --per-clip-json`` write instead of the markdown tables (a fresh set of hundreds of clips is
+kept as such a file, not as a table); the clips are then coloured by whether a dancer starts hidden unless
+``--colour-by seed`` is given.
+
     python3 scripts/plot_track_bench.py [--markdown docs/benchmarks.md] [--out docs/img/tracking_synth_idf1.png]
                                         [--sections HEADING ...] [--colour-by seed|hidden]
+    python3 scripts/plot_track_bench.py --per-clip-json RUN.json [...] --out PNG [--title TEXT]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import re
 import sys
 from pathlib import Path
@@ -55,6 +62,25 @@ def read_rows(text: str, heading: str) -> list[dict]:
     return rows
 
 
+def read_json_rows(path: Path) -> list[dict]:
+    """The rows (as :func:`read_rows` gives them) of a per-clip JSON file: ``{"clips": {"SEED:INDEX:THRESHOLD":
+    {genre, dancers, idf1, id_switches, and where present idf1_iou04, hidden_starts}}}``."""
+    try:
+        clips = json.loads(Path(path).read_text())["clips"]
+        rows = []
+        for key, c in clips.items():
+            seed, index = (int(v) for v in key.split(":")[:2])
+            rows.append({"seed": seed, "clip": f"clip_{index:05d}", "genre": str(c["genre"]),
+                         "dancers": int(c["dancers"]), "idf1": float(c["idf1"]), "switches": int(c["id_switches"]),
+                         "idf1_loose": float(c["idf1_iou04"]) if "idf1_iou04" in c else None,
+                         "hidden": int(c["hidden_starts"]) if "hidden_starts" in c else None})
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
+        raise SystemExit(f"plot_track_bench: error: {path} is not a per-clip JSON file ({exc})") from None
+    if not rows:
+        raise SystemExit(f"plot_track_bench: error: {path} holds no clip")
+    return rows
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--markdown", type=Path, default=Path("docs/benchmarks.md"))
@@ -62,15 +88,26 @@ def main(argv=None) -> int:
     parser.add_argument("--sections", nargs="*", default=list(DEFAULT_SECTIONS),
                         help="section headings (their start) to read")
     parser.add_argument("--target", type=float, default=0.9)
-    parser.add_argument("--colour-by", choices=("seed", "hidden"), default="seed",
-                        help="one colour per seed, or by whether a dancer starts hidden (tables since session 14)")
+    parser.add_argument("--colour-by", choices=("seed", "hidden"), default=None,
+                        help="one colour per seed (default for the markdown tables), or by whether a dancer starts "
+                        "hidden (tables since session 14; default for --per-clip-json)")
+    parser.add_argument("--per-clip-json", type=Path, nargs="+", metavar="JSON",
+                        help="plot these per-clip score files (hindsight_runs.py score / bench_track.py "
+                        "--per-clip-json) instead of the markdown tables")
+    parser.add_argument("--title", help="the plot's title (default: counts of the clips, below the target and with "
+                        "switches)")
     parser.add_argument("--held-out", default="97,101,113,127,131,137,139,151,163,173",
                         help="seeds rendered after the tracker's rules were written (marked in the legend)")
     args = parser.parse_args(argv)
-    if not args.markdown.is_file():
-        raise SystemExit(f"plot_track_bench: error: {args.markdown} not found")
-    text = args.markdown.read_text()
-    rows = [r for heading in args.sections for r in read_rows(text, heading)]
+    if args.per_clip_json:
+        rows = [r for path in args.per_clip_json for r in read_json_rows(path)]
+        args.colour_by = args.colour_by or "hidden"  # hundreds of seeds: one colour each would say nothing
+    else:
+        if not args.markdown.is_file():
+            raise SystemExit(f"plot_track_bench: error: {args.markdown} not found")
+        text = args.markdown.read_text()
+        rows = [r for heading in args.sections for r in read_rows(text, heading)]
+        args.colour_by = args.colour_by or "seed"
 
     import matplotlib
     matplotlib.use("Agg")
@@ -84,7 +121,8 @@ def main(argv=None) -> int:
     fig, ax = plt.subplots(figsize=(10.5, 4.2))
     loose_labelled = False
     if args.colour_by == "hidden" and any(r["hidden"] is None for r in rows):
-        raise SystemExit("plot_track_bench: error: --colour-by hidden needs tables with the 'starts hidden' column")
+        raise SystemExit("plot_track_bench: error: --colour-by hidden needs tables with the 'starts hidden' "
+                         "column, or hidden_starts in every clip of the per-clip JSON")
     hidden_labelled = set()
     for k, seed in enumerate(seeds):
         mine = [r for r in rows if r["seed"] == seed]
@@ -119,8 +157,8 @@ def main(argv=None) -> int:
     ax.set_ylim(min(0.75, low - 0.03), 1.01)
     below = sum(r["idf1"] < args.target for r in rows)
     switched = sum(r["switches"] > 0 for r in rows)
-    ax.set_title(f"Tracking on hdvr.synth clips: {len(rows)} clips, {below} below {args.target:g}, "
-                 f"{switched} with identity switches (red rings)", fontsize=10)
+    counts = (f"{len(rows)} clips, {below} below {args.target:g}, {switched} with identity switches (red rings)")
+    ax.set_title(f"{args.title}: {counts}" if args.title else f"Tracking on hdvr.synth clips: {counts}", fontsize=10)
     handles, labels = ax.get_legend_handles_labels()
     order = sorted(range(len(labels)), key=lambda i: labels[i].startswith("same clip"))  # the tick's entry last
     ax.legend([handles[i] for i in order], [labels[i] for i in order], fontsize=8, loc="upper left",

@@ -73,3 +73,48 @@ def test_missing_section_is_a_one_line_error(tmp_path):
     markdown.write_text("# Benchmarks\n")
     with pytest.raises(SystemExit, match="no section"):
         module.main(["--markdown", str(markdown), "--out", str(tmp_path / "x.png")])
+
+
+PER_CLIP = {"hindsight": {}, "clips": {
+    "2801:0:0.3": {"genre": "tango", "dancers": 2, "idf1": 1.0, "id_switches": 0, "hidden_starts": 0, "mota": 1.0,
+                   "hota": 0.88, "idf1_iou04": 1.0, "id_switches_iou04": 0},
+    "2839:5:0.3": {"genre": "ballet", "dancers": 4, "idf1": 0.621, "id_switches": 3, "hidden_starts": 1,
+                   "mota": 0.4, "hota": 0.5, "idf1_iou04": 0.771, "id_switches_iou04": 4},
+    "2840:2:0.3": {"genre": "hip_hop", "dancers": 3, "idf1": 0.95, "id_switches": 0}}}  # older files: fewer keys
+
+
+def test_per_clip_json_rows_are_read_as_the_tables_rows(tmp_path):
+    import json
+
+    module = load_script()
+    path = tmp_path / "run.json"
+    path.write_text(json.dumps(PER_CLIP))
+    rows = module.read_json_rows(path)
+    assert [(r["seed"], r["clip"], r["genre"], r["dancers"], r["idf1"], r["switches"], r["idf1_loose"], r["hidden"])
+            for r in rows] == [(2801, "clip_00000", "tango", 2, 1.0, 0, 1.0, 0),
+                               (2839, "clip_00005", "ballet", 4, 0.621, 3, 0.771, 1),
+                               (2840, "clip_00002", "hip_hop", 3, 0.95, 0, None, None)]
+
+
+def test_a_per_clip_json_is_plotted_by_hidden_starts_and_bad_files_are_one_line_errors(tmp_path):
+    import json
+
+    module = load_script()
+    clips = dict(PER_CLIP["clips"])
+    del clips["2840:2:0.3"]  # colouring by hidden starts needs the column in every clip
+    path = tmp_path / "run.json"
+    path.write_text(json.dumps({"clips": clips}))
+    out = tmp_path / "img" / "fresh.png"
+    assert module.main(["--per-clip-json", str(path), "--out", str(out), "--title", "Fresh clips"]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    with pytest.raises(SystemExit, match="not a per-clip JSON file"):
+        module.main(["--per-clip-json", str(bad), "--out", str(out)])
+    bad.write_text(json.dumps({"clips": {}}))
+    with pytest.raises(SystemExit, match="holds no clip"):
+        module.main(["--per-clip-json", str(bad), "--out", str(out)])
+    old = tmp_path / "old.json"  # one clip without hidden_starts
+    old.write_text(json.dumps(PER_CLIP))
+    with pytest.raises(SystemExit, match="hidden_starts in every clip"):
+        module.main(["--per-clip-json", str(path), str(old), "--out", str(out)])
