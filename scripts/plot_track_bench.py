@@ -157,7 +157,7 @@ def main(argv=None) -> int:
     ax.set_ylim(min(0.75, low - 0.03), 1.01)
     below = sum(r["idf1"] < args.target for r in rows)
     switched = sum(r["switches"] > 0 for r in rows)
-    counts = (f"{len(rows)} clips, {below} below {args.target:g}, {switched} with identity switches (red rings)")
+    counts = f"{len(rows)} clips, {below} below {args.target:g}, {switched} with identity switches (red rings)"
     ax.set_title(f"{args.title}: {counts}" if args.title else f"Tracking on hdvr.synth clips: {counts}", fontsize=10)
     handles, labels = ax.get_legend_handles_labels()
     order = sorted(range(len(labels)), key=lambda i: labels[i].startswith("same clip"))  # the tick's entry last

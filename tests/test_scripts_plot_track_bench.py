@@ -1,6 +1,7 @@
 """scripts/plot_track_bench.py: reads the synthetic tracking tables of the benchmark markdown and plots them."""
 
 import importlib.util
+import json
 from pathlib import Path
 
 import pytest
@@ -84,8 +85,6 @@ PER_CLIP = {"hindsight": {}, "clips": {
 
 
 def test_per_clip_json_rows_are_read_as_the_tables_rows(tmp_path):
-    import json
-
     module = load_script()
     path = tmp_path / "run.json"
     path.write_text(json.dumps(PER_CLIP))
@@ -97,8 +96,6 @@ def test_per_clip_json_rows_are_read_as_the_tables_rows(tmp_path):
 
 
 def test_a_per_clip_json_is_plotted_by_hidden_starts_and_bad_files_are_one_line_errors(tmp_path):
-    import json
-
     module = load_script()
     clips = dict(PER_CLIP["clips"])
     del clips["2840:2:0.3"]  # colouring by hidden starts needs the column in every clip
