@@ -56,6 +56,7 @@ BEFORE_AFTER = (
     (2665, 2, "hip_hop", 3, 8, "emerge_own_margin", "tracking_emerge_own_margin_s2665_hip_hop_008.jpg"),
     (2741, 5, "ballet", 4, 45, "lost_max_foreground", "tracking_lost_max_foreground_s2741_ballet_045.jpg"),
     (2762, 5, "ballet", 4, 30, "front_follows_feet", "tracking_front_follows_feet_s2762_ballet_030.jpg"),
+    (2819, 4, "hip_hop", 4, 60, "front_feet_max_off", "tracking_front_feet_max_off_s2819_hip_hop_060.jpg"),
 )
 #: (figures, seed, frame, picture name): a procedural crossing clip (``bench_track.py --sections identity``) where a
 #: figure that walked on behind another is held where it went behind without ``HindsightSettings.hold_min_cover``
@@ -421,14 +422,16 @@ def _render_troupe(tmp: Path, figures: int, seed: int):
 
 
 def _field_off_and_default(field: str):
-    """The ``MultiTrackerConfig`` with ``field`` off (0, 0.0 or False) and the default one, and the two pictures'
-    titles: ((off, default), (title off, title default))."""
-    from dataclasses import replace
+    """The ``MultiTrackerConfig`` with ``field`` off (None for a test that may be switched off so, such as
+    ``front_feet_max_off``; else 0, 0.0 or False) and the default one, and the two pictures' titles: ((off,
+    default), (title off, title default))."""
+    from dataclasses import fields, replace
 
     from hdvr.tracking.multi import MultiTrackerConfig
 
     default = MultiTrackerConfig()
-    off = replace(default, **{field: type(getattr(default, field))()})
+    optional = "None" in str(next(f.type for f in fields(MultiTrackerConfig) if f.name == field))
+    off = replace(default, **{field: None if optional else type(getattr(default, field))()})
     return (off, default), (f"{field} off", f"{field} = {getattr(default, field)}")
 
 

@@ -140,3 +140,20 @@ def test_the_procedural_vertical_cap_picture_shows_the_troupe_without_and_with_t
     assert sank[100, 0, 1] > truth[100, 0, 1] + 80
     assert iou_matrix(capped[100, 0:1], truth[100, 0:1])[0, 0] > 0.5
     _assert_two_panels(path, 2.0)
+
+
+def test_a_before_after_rule_is_switched_off_as_its_field_allows(monkeypatch):
+    """The left picture's config turns the rule off: None for a test that may be switched off so
+    (``front_feet_max_off``: 0.0 would be the strictest test, not none), else 0, 0.0 or False; the right one is the
+    default, and the titles say which."""
+    module = _script(monkeypatch)
+    from hdvr.tracking.multi import MultiTrackerConfig
+
+    default = MultiTrackerConfig()
+    (off, on), titles = module._field_off_and_default("front_feet_max_off")
+    assert off.front_feet_max_off is None and on == default
+    assert titles == ("front_feet_max_off off", f"front_feet_max_off = {default.front_feet_max_off}")
+    (off, _), _ = module._field_off_and_default("front_follows_feet")
+    assert off.front_follows_feet == 0.0 and off.front_feet_max_off == default.front_feet_max_off
+    (off, _), _ = module._field_off_and_default("front_narrows")
+    assert off.front_narrows is False

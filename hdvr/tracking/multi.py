@@ -237,6 +237,11 @@ class MultiTrackerConfig:
     # behind the centre of the dancer's box along its stored velocity (a moving dancer; the cone of Algorithm 1*
     # lies ahead): a tracker that slid back onto the dancer in front follows that dancer's limbs (D 2719 ballet: 44
     # px behind, similarity 0.42; F 2752 ballet: 56 px behind, on the front dancer's arm). None: no such test
+    waiting_own_box: bool = False  # an occluded dancer still waiting hidden behind another since its start
+    # (``hidden_behind``) has its own tracker's box as a candidate of re-identification and relocation
+    # (:meth:`MultiDancerTracker._own_box_stays`). Off: not, its tracker having learned its start box, which showed
+    # mostly the dancer in front; that box is no sighting of it (hdvr synth G 2762 hip-hop 0.953 -> 0.972; the
+    # other 213 clips with a hidden start of D, F, G, H and seeds 2801-2880 unchanged, session 66)
     emerge_hidden_starts: bool = True  # a dancer started mostly hidden (``hidden_start_overlap``) takes the first
     # detection that comes out clear of every other dancer, that no other dancer takes and that does not look like
     # the dancer hiding it (:meth:`MultiDancerTracker._emerge`)
@@ -336,10 +341,16 @@ class MultiTrackerConfig:
     # while the dancer, arms in, was 70, and the dancer waiting behind took her detection (0.633 -> 0.983). Session
     # 51, with hindsight's 30-frame walk: fresh clips (seeds 2601-2640) failing 12 -> 10, (2641-2680) 6 -> 6, tuned
     # 15 -> 16 (docs/benchmarks.md "session 51")
-    front_follows_feet: float = 0.05  # with > 0, a dancer with a dancer waiting straight behind it, when two or
+    front_follows_feet: float = 0.02  # with > 0, a dancer with a dancer waiting straight behind it, when two or
     # more people of its height are detected on its box, restarts on the one whose feet are lowest (nearest the
     # camera: the one in front) if its box has slid off that one (IoU < 0.5) and its feet are this x its box height
-    # below every other's (:meth:`MultiDancerTracker._follow_front_feet`)
+    # below every other's (:meth:`MultiDancerTracker._follow_front_feet`). 0.05 until session 66; with
+    # ``front_feet_max_off``, 0.02 mends seed 2870 ballet (the two parted with their feet 3-5 px apart; 0.658 ->
+    # 0.940); 0.01 took a dancer's box onto its partner in D 2719 hip-hop (0.964 -> 0.933)
+    front_feet_max_off: float | None = 0.5  # ... and only if that person's centre lies within this x the dancer's
+    # box width of its box's columns (None: no such test): a third dancer's wide detection, an arm spread onto the
+    # box, is not the dancer in front (hdvr synth seed 2819 hip-hop: the front dancer restarted on the person beside
+    # it, 34 px beyond its box, and followed her for 85 frames; 0.823 -> 1.000, session 66)
     lost_search_after: int = 15  # with N > 0, a dancer occluded for N frames (not one waiting since its start) is
     # looked for over the whole frame every ``lost_search_every`` frames, with or without a detector
     # (:meth:`MultiDancerTracker._search_lost`): windows of its box's size where the pixels' colours are most its own
@@ -1425,7 +1436,8 @@ class MultiDancerTracker(ReportedExtent):
         nearest the camera. People count if their height is within ``reid_height_change`` of ``d``'s box (a box
         around two people reaches lowest too) and no other dancer followed holds them (IoU >= 0.5). Only if ``d``'s
         box has slid off that person (IoU < 0.5), e.g. its tracker, which learned both dancers from the start,
-        follows the one behind as they part. Returns whether it restarted."""
+        follows the one behind as they part; and with ``front_feet_max_off`` only if that person's centre lies
+        within that x the box's width of the box's columns. Returns whether it restarted."""
         c = self.config
         if c.front_follows_feet <= 0:
             return False
@@ -1440,6 +1452,10 @@ class MultiDancerTracker(ReportedExtent):
         if front[1] + front[3] - (second[1] + second[3]) < c.front_follows_feet * d.box[3] or \
                 box_iou(d.box, front) >= 0.5:
             return False
+        if c.front_feet_max_off is not None:
+            off = max(d.box[0] - box_centre(front)[0], box_centre(front)[0] - (d.box[0] + d.box[2]), 0.0)
+            if off > c.front_feet_max_off * d.box[2]:
+                return False
         self._restart_on_detection(d, frame, front)
         return True
 
@@ -1967,9 +1983,9 @@ class MultiDancerTracker(ReportedExtent):
         """Whether occluded dancer ``d``'s own tracker's box ``own`` (x, y, w, h px) has its bottom within
         ``own_box_max_shift`` x ``d``'s box height of the bottom of ``d``'s box (always, with the test off); never
         for a dancer lost on the background (``lost_on_background``: its tracker is what drifted there)."""
-        if d.lost_on_background:
-            return False
         c = self.config
+        if d.lost_on_background or (not c.waiting_own_box and d.hidden_behind is not None):
+            return False
         speed = float(np.linalg.norm(d.stored_velocity))
         if c.own_box_max_back is not None and speed >= c.min_speed:
             ahead = float(np.dot(box_centre(own) - box_centre(d.box), d.stored_velocity / speed))
