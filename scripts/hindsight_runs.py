@@ -12,6 +12,9 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
         [--detections DETS] [--tracker-config NAME=VALUE,...]
     # or only some clips again, by their runs' names
     python3 scripts/hindsight_runs.py save --clips-dir CLIPS --keys 2624_2,2507_3 --runs RUNS --detections DETS
+    # or only those where a dancer starts hidden (in an earlier score file; a rule for such dancers changes no other)
+    python3 scripts/hindsight_runs.py save --clips-dir CLIPS --hidden-starts-of SCORES.json --runs RUNS \\
+        --detections DETS
     # score hindsight settings on the kept runs
     python3 scripts/hindsight_runs.py score --clips-dir CLIPS --runs RUNS [--set keypoint_reach=0.1 ...] \\
         [--per-clip-json F.json]
@@ -142,18 +145,39 @@ def _key(text: str) -> tuple[int, int]:
     return seed, index
 
 
+def hidden_start_clips(path: Path) -> list[tuple[int, int]]:
+    """(seed, clip index) of the clips of a per-clip score file (``score --per-clip-json``, ``bench_track.py
+    --per-clip-json``; keys ``SEED:INDEX:THRESHOLD``) in which a dancer starts hidden behind another
+    (``hidden_starts`` > 0), once each, in the file's order: the only clips a rule for such dancers can change. A
+    one-line error where the file is missing, not such a file, or has no ``hidden_starts``."""
+    try:
+        clips = json.loads(Path(path).read_text())["clips"]
+        pairs = []
+        for key, row in clips.items():
+            seed, index = (int(v) for v in key.split(":")[:2])
+            if row["hidden_starts"] > 0 and (seed, index) not in pairs:
+                pairs.append((seed, index))
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as exc:
+        raise SystemExit(f"hindsight_runs: {path} is no per-clip score file with hidden_starts "
+                         f"({type(exc).__name__}: {exc})")
+    return pairs
+
+
 def save(args) -> int:
     from hdvr.synth.groundtruth import make_clip
 
-    if args.keys:
+    if args.hidden_starts_of:
+        pairs = hidden_start_clips(args.hidden_starts_of)
+    elif args.keys:
         pairs = [_key(k) for k in args.keys.split(",") if k.strip()]
     elif args.seeds:
         indices = _integers(args.clips) if args.clips else list(range(len(SYNTH_CLIPS)))
         pairs = [(seed, index) for seed in _integers(args.seeds) for index in indices]
     else:
-        raise SystemExit("hindsight_runs: save needs --seeds (and optionally --clips) or --keys")
+        raise SystemExit("hindsight_runs: save needs --seeds (and optionally --clips), --keys or --hidden-starts-of")
     if any(not 0 <= i < len(SYNTH_CLIPS) for _, i in pairs):
-        raise SystemExit(f"hindsight_runs: clip indices are 0-{len(SYNTH_CLIPS) - 1}, got {args.clips or args.keys!r}")
+        given = args.clips or args.keys or str(args.hidden_starts_of)
+        raise SystemExit(f"hindsight_runs: clip indices are 0-{len(SYNTH_CLIPS) - 1}, got {given!r}")
     config = parse_tracker_config(args.tracker_config)
     args.runs.mkdir(parents=True, exist_ok=True)
     detector = default_tracking_detector()
@@ -217,6 +241,9 @@ def main(argv=None) -> int:
     sv.add_argument("--seeds", help="comma-separated seeds (6 clips each, bench_track's SYNTH_CLIPS)")
     sv.add_argument("--keys", help="comma-separated SEED_INDEX clips to track instead of --seeds/--clips (e.g. again "
                                    "only those a rule can change)")
+    sv.add_argument("--hidden-starts-of", type=Path, metavar="SCORES.json",
+                    help="track instead the clips of this per-clip score file (score --per-clip-json) in which a "
+                         "dancer starts hidden behind another: the only ones a rule for such dancers can change")
     sv.add_argument("--runs", type=Path, required=True, help="folder for the kept runs")
     sv.add_argument("--clips", help="comma-separated clip indices per seed (default all: "
                     + ", ".join(f"{i} {g} {n}" for i, (g, n) in enumerate(SYNTH_CLIPS)) + ")")

@@ -84,6 +84,29 @@ def test_failing_and_summary_count_the_issue_target():
     assert "3 clips" in line and "2 failing" in line and "1 below 0.9" in line and "1 switches on 1 clips" in line
 
 
+def test_the_clips_with_a_hidden_start_are_read_from_a_score_file(tmp_path):
+    """``save --hidden-starts-of`` tracks only the clips of an earlier per-clip score file in which a dancer starts
+    hidden behind another: a rule for such dancers changes no other clip. Each clip once, in the file's order; a
+    file that is missing, not JSON or without ``hidden_starts`` is a one-line error."""
+    script = load_script("hindsight_runs")
+    row = {"idf1": 1.0, "id_switches": 0, "hota": 0.8}
+    scores = {"hindsight": {}, "clips": {"2801:0:0.3": dict(row, hidden_starts=0),
+                                         "2801:5:0.3": dict(row, hidden_starts=1),
+                                         "2804:5:0.3": dict(row, hidden_starts=2),
+                                         "2804:5:0.5": dict(row, hidden_starts=2)}}
+    path = tmp_path / "scores.json"
+    path.write_text(json.dumps(scores))
+    assert script.hidden_start_clips(path) == [(2801, 5), (2804, 5)]
+    (tmp_path / "old.json").write_text(json.dumps({"clips": {"2801:0:0.3": row}}))
+    (tmp_path / "bad.json").write_text("not json")
+    for name in ("old.json", "bad.json", "missing.json"):
+        with pytest.raises(SystemExit, match="is no per-clip score file with hidden_starts"):
+            script.hidden_start_clips(tmp_path / name)
+    with pytest.raises(SystemExit, match="is no per-clip score file"):
+        script.main(["save", "--clips-dir", str(tmp_path), "--runs", str(tmp_path / "runs"),
+                     "--hidden-starts-of", str(tmp_path / "old.json")])
+
+
 def test_bad_runs_and_missing_truth_are_one_line_errors(tmp_path):
     script = load_script("hindsight_runs")
     with pytest.raises(SystemExit, match="no kept runs"):
