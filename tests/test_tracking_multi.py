@@ -1960,6 +1960,31 @@ def test_a_waiting_dancer_does_not_come_out_on_a_person_who_plainly_is_another_d
     assert not shows(blue)
 
 
+def test_a_waiting_dancer_is_not_kept_from_a_person_too_short_to_be_the_known_dancer_like_her():
+    """``emerge_yields_to_known`` leaves a person who looks like a known dancer to that dancer; with
+    ``emerge_known_height`` only if that dancer could take it, its box's height within ``reid_height_change`` of the
+    person's (:meth:`_height_fits`). hdvr synth seed 2826 ballet: the waiting dancer walked out clear, detected for
+    40 frames, 117 px tall; an occluded dancer 171 px tall matched her colours 0.62-0.72, could not take her, and
+    the waiting dancer's box stayed at her start (IoU 0.12)."""
+    frame = np.zeros((480, 640, 3), np.uint8)
+    frame[:, :200] = (0, 0, 200)  # red figure region
+    frame[:, 200:400] = (200, 60, 0)  # blue
+    frame[:, 400:] = (40, 200, 40)  # green
+    red, blue, green = (50.0, 100.0, 80.0, 250.0), (250.0, 100.0, 80.0, 250.0), (450.0, 100.0, 80.0, 250.0)
+    tracker = MultiDancerTracker(frame, [red, blue, green], MultiTrackerConfig(emerge_known_height=True))
+    front, known, waiting = tracker.dancers
+    for d, box in zip(tracker.dancers, (red, blue, green)):
+        d.stored_histogram = colour_histogram(frame, box)
+    waiting.hidden_behind = front.dancer_id
+    short = (260.0, 200.0, 60.0, 150.0)  # in blue's colours, 0.6 x its height
+    shows = lambda box: tracker._shows_known_dancer(colour_histogram(frame, box), front, box)  # noqa: E731
+    assert shows(blue)  # the blue dancer's height: left to her
+    assert not shows(short)  # too short to be her
+    tracker.config = dataclasses.replace(tracker.config, emerge_known_height=False)
+    assert shows(short)  # before: left to her all the same
+    assert MultiTrackerConfig().emerge_known_height is True
+
+
 def test_an_occluded_dancer_is_not_taken_where_its_own_tracker_drifted_off_the_floor():
     """An occluded dancer's own tracker keeps running without learning, and its box is a candidate of
     re-identification. Behind a group it can drift up or down off the hidden dancer (hdvr synth seed 212 hip-hop:

@@ -254,6 +254,11 @@ class MultiTrackerConfig:
     # person who plainly is someone else is left to that dancer. A dancer waiting behind another since its start
     # took a dancer who had walked behind the same one and came out on the far side (her memory 0.92, the others
     # at most 0.43) while her box stayed behind, and kept her all clip (seed 2305 ballet)
+    emerge_known_height: bool = True  # ... and only to a dancer that could take it: its box's height within
+    # ``reid_height_change`` of the person's (:meth:`MultiDancerTracker._height_fits`). Seed 2826 ballet: the waiting
+    # dancer walked out clear, detected for 40 frames at 117 px, and an occluded dancer 171 px tall whose colours
+    # matched 0.62-0.72 kept her from it (0.842 -> 0.875). Session 66, on the 239 clips with a hidden start of D-H and
+    # seeds 2801-2900: no clip passes or fails otherwise; 2831 hip-hop 0.933 -> 0.990, F 2743 flamenco 1.000 -> 0.972
     emerge_keeps_height: bool = True  # a dancer coming out on a detection shorter than its box keeps the box's
     # height (the detector sees the part already out; seed 705 tango, a couple in hold: 0.533 -> 0.812)
     emerge_beside_persist: int = 3  # with N > 0, a waiting dancer may also come out on a detection whose body core
@@ -2172,7 +2177,7 @@ class MultiDancerTracker(ReportedExtent):
                 if hist is None:
                     continue
                 like_front = histogram_similarity(hist, front.stored_histogram)
-                if like_front >= unlike_front or self._shows_known_dancer(hist, front):
+                if like_front >= unlike_front or self._shows_known_dancer(hist, front, det):
                     continue
                 if overlapped:  # beside others: unlike each of them, and there on the detector frames before
                     beside = half_beside and not any(
@@ -2199,15 +2204,19 @@ class MultiDancerTracker(ReportedExtent):
                 d.tracker.init(frame, self._core(d.box))
             d.stored_histogram, d.hidden_behind = hist, None
 
-    def _shows_known_dancer(self, hist, front: DancerTrack) -> bool:
+    def _shows_known_dancer(self, hist, front: DancerTrack, detection=None) -> bool:
         """With ``emerge_yields_to_known``, whether a detection with colour histogram ``hist`` shows a dancer other
         than ``front`` whose colours are known (not out, not waiting since its start): its memory matches at least
-        ``reid_similarity`` and by ``reid_margin`` more than every other such dancer's."""
+        ``reid_similarity`` and by ``reid_margin`` more than every other such dancer's. With ``emerge_known_height``
+        and the ``detection`` (x, y, w, h px) given, only dancers whose box height fits it (:meth:`_height_fits`)
+        count, besides ``front``: a dancer that could not take the person is not the one it shows."""
         c = self.config
         if not c.emerge_yields_to_known:
             return False
         scores = sorted(((histogram_similarity(hist, o.stored_histogram), o.dancer_id) for o in self.dancers
-                         if o.status != OUT and o.hidden_behind is None and o.stored_histogram is not None),
+                         if o.status != OUT and o.hidden_behind is None and o.stored_histogram is not None
+                         and (not c.emerge_known_height or detection is None or o is front
+                              or self._height_fits(o, detection))),
                         reverse=True)
         if not scores or scores[0][0] < c.reid_similarity or scores[0][1] == front.dancer_id:
             return False
