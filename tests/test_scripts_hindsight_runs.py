@@ -147,7 +147,7 @@ def test_a_real_clip_kept_and_scored_gives_the_benchmark_s_figures(tmp_path, cap
         script.main(["save", "--clips-dir", str(clips), "--seeds", "5", "--clips", "9", "--runs", str(runs)])
     with pytest.raises(SystemExit, match="SEED_INDEX"):
         script.main(["save", "--clips-dir", str(clips), "--keys", "5-1", "--runs", str(runs)])
-    with pytest.raises(SystemExit, match="--seeds .* or --keys"):
+    with pytest.raises(SystemExit, match="--seeds .*, --keys or --hidden-starts-of"):
         script.main(["save", "--clips-dir", str(clips), "--runs", str(runs)])
     # with a detections folder: the detector's output is kept there and reused, and the runs are the same
     dets = tmp_path / "dets"
