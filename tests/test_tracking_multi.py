@@ -2110,7 +2110,7 @@ def test_a_dancer_in_front_follows_the_person_whose_feet_are_lowest_when_a_stack
     around_both = (230.0, 140.0, 190.0, 340.0)  # feet lowest, but 1.3 x the box's height: a box around two people
     moved, box = follows(0.05, slid, [behind, around_both, in_front])
     assert moved and box_iou(box, in_front) > 0.7
-    assert MultiTrackerConfig().front_follows_feet == 0.02
+    assert MultiTrackerConfig().front_follows_feet == 0.05
 
 
 def test_a_dancer_in_front_does_not_follow_a_person_standing_beside_its_box():
@@ -2126,7 +2126,7 @@ def test_a_dancer_in_front_does_not_follow_a_person_standing_beside_its_box():
     on_box = (250.0, 185.0, 100.0, 255.0)  # centre at 300 px, within them
 
     def follows(max_off, person) -> bool:
-        tracker = _waiting_behind(frame, MultiTrackerConfig(front_follows_feet=0.02, front_feet_max_off=max_off))
+        tracker = _waiting_behind(frame, MultiTrackerConfig(front_feet_max_off=max_off))
         front = tracker.dancers[1]
         front.box = slid
         return tracker._follow_front_feet(front, frame, [behind, person])

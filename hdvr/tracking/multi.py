@@ -346,12 +346,12 @@ class MultiTrackerConfig:
     # while the dancer, arms in, was 70, and the dancer waiting behind took her detection (0.633 -> 0.983). Session
     # 51, with hindsight's 30-frame walk: fresh clips (seeds 2601-2640) failing 12 -> 10, (2641-2680) 6 -> 6, tuned
     # 15 -> 16 (docs/benchmarks.md "session 51")
-    front_follows_feet: float = 0.02  # with > 0, a dancer with a dancer waiting straight behind it, when two or
+    front_follows_feet: float = 0.05  # with > 0, a dancer with a dancer waiting straight behind it, when two or
     # more people of its height are detected on its box, restarts on the one whose feet are lowest (nearest the
     # camera: the one in front) if its box has slid off that one (IoU < 0.5) and its feet are this x its box height
-    # below every other's (:meth:`MultiDancerTracker._follow_front_feet`). 0.05 until session 66; with
-    # ``front_feet_max_off``, 0.02 mends seed 2870 ballet (the two parted with their feet 3-5 px apart; 0.658 ->
-    # 0.940); 0.01 took a dancer's box onto its partner in D 2719 hip-hop (0.964 -> 0.933)
+    # below every other's (:meth:`MultiDancerTracker._follow_front_feet`). Session 66, with ``front_feet_max_off``:
+    # 0.02 mended seed 2870 ballet (the two parted with their feet 3-5 px apart; 0.658 -> 0.940) but broke fresh
+    # seed 2907 flamenco (0.981 -> 0.756 with a switch); 0.01 also D 2719 hip-hop (0.964 -> 0.933)
     front_feet_max_off: float | None = 0.5  # ... and only if that person's centre lies within this x the dancer's
     # box width of its box's columns (None: no such test): a third dancer's wide detection, an arm spread onto the
     # box, is not the dancer in front (hdvr synth seed 2819 hip-hop: the front dancer restarted on the person beside
