@@ -409,19 +409,24 @@ SYNTH_CLIPS = (("tango", 2), ("swing", 2), ("hip_hop", 3), ("flamenco", 3), ("hi
 CROWD_GENRES = ("ballet", "hip_hop", "flamenco", "tap")  # group genres rendered with --synth-crowd dancers
 
 
+def tracker_field_may_be_none(name: str) -> bool:
+    """Whether the ``MultiTrackerConfig`` field ``name`` may be None: a test that can be switched off so (its
+    annotation names None; 0 would be its strictest setting, not off)."""
+    return "None" in str(next(f.type for f in dataclasses.fields(MultiTrackerConfig) if f.name == name))
+
+
 def parse_tracker_config(text: str) -> MultiTrackerConfig:
     """MultiTrackerConfig with the fields named in ``text`` ("name=value,name=value") changed; a value takes the
     type of the field's default (booleans: true/false/1/0); a field that may be None (a test that can be switched
     off) also takes none."""
     config = MultiTrackerConfig()
-    fields = {f.name: f for f in dataclasses.fields(MultiTrackerConfig)}
     changes = {}
     for item in filter(None, (v.strip() for v in text.split(","))):
         name, sep, value = item.partition("=")
         if not sep or not hasattr(config, name):
             raise SystemExit(f"bench_track: --tracker-config: {item!r} is not FIELD=VALUE of MultiTrackerConfig")
         default = getattr(config, name)
-        optional = "None" in str(fields[name].type)
+        optional = tracker_field_may_be_none(name)
         if optional and value.lower() == "none":  # a test that can be switched off
             changes[name] = None
         elif isinstance(default, bool):

@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 os.environ.setdefault("MUJOCO_GL", "egl")
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench_track, also where this file is loaded as a module
 
 #: (seed, clip index, genre, dancers, frame, what it shows)
 CASES = (
@@ -171,7 +172,7 @@ def draw_case(frame: np.ndarray, gt: np.ndarray, tracked: np.ndarray, detections
 def _render_case(tmp: Path, seed: int, index: int, genre: str, n: int):
     """Render clip ``index`` of ``seed``: (gt (T, N, 4) boxes in the clip's order, start of each dancer in the order
     track_video numbers them, that order, path of the video)."""
-    from bench_track import _starts_from_truth  # the starts the benchmark gives (scripts/ is on sys.path)
+    from bench_track import _starts_from_truth  # the starts the benchmark gives
 
     from hdvr.synth.groundtruth import ClipSpec, make_clip
 
@@ -425,13 +426,14 @@ def _field_off_and_default(field: str):
     """The ``MultiTrackerConfig`` with ``field`` off (None for a test that may be switched off so, such as
     ``front_feet_max_off``; else 0, 0.0 or False) and the default one, and the two pictures' titles: ((off,
     default), (title off, title default))."""
-    from dataclasses import fields, replace
+    from dataclasses import replace
+
+    from bench_track import tracker_field_may_be_none
 
     from hdvr.tracking.multi import MultiTrackerConfig
 
     default = MultiTrackerConfig()
-    optional = "None" in str(next(f.type for f in fields(MultiTrackerConfig) if f.name == field))
-    off = replace(default, **{field: None if optional else type(getattr(default, field))()})
+    off = replace(default, **{field: None if tracker_field_may_be_none(field) else type(getattr(default, field))()})
     return (off, default), (f"{field} off", f"{field} = {getattr(default, field)}")
 
 

@@ -1933,21 +1933,28 @@ def test_a_tracked_dancer_whose_box_stayed_behind_takes_a_stray_person_with_its_
     assert box_iou(final_box(False), boxes[7][0]) == 0.0
 
 
+def _red_blue_green_dancers(config=None):
+    """A frame in three colour bands (red, blue, green, 200 px wide each), a tracker with one dancer on each band
+    (their memories those colours), and the three boxes; the green dancer waits behind the red one."""
+    frame = np.zeros((480, 640, 3), np.uint8)
+    frame[:, :200] = (0, 0, 200)  # red figure region
+    frame[:, 200:400] = (200, 60, 0)  # blue
+    frame[:, 400:] = (40, 200, 40)  # green
+    boxes = (50.0, 100.0, 80.0, 250.0), (250.0, 100.0, 80.0, 250.0), (450.0, 100.0, 80.0, 250.0)
+    tracker = MultiDancerTracker(frame, list(boxes), config)
+    for d, box in zip(tracker.dancers, boxes):
+        d.stored_histogram = colour_histogram(frame, box)
+    tracker.dancers[2].hidden_behind = tracker.dancers[0].dancer_id
+    return frame, tracker, boxes
+
+
 def test_a_waiting_dancer_does_not_come_out_on_a_person_who_plainly_is_another_dancer():
     """A dancer waiting behind another since its start has no colours of its own, so it used to take any person
     coming out near it that did not look like the dancer in front. With ``emerge_yields_to_known`` (the default
     since session 47) a person whose colours match another dancer's memory (at least ``reid_similarity``, by
     ``reid_margin`` over every other known dancer) is left to that dancer (:meth:`_shows_known_dancer`)."""
-    frame = np.zeros((480, 640, 3), np.uint8)
-    frame[:, :200] = (0, 0, 200)  # red figure region
-    frame[:, 200:400] = (200, 60, 0)  # blue
-    frame[:, 400:] = (40, 200, 40)  # green
-    red, blue, green = (50.0, 100.0, 80.0, 250.0), (250.0, 100.0, 80.0, 250.0), (450.0, 100.0, 80.0, 250.0)
-    tracker = MultiDancerTracker(frame, [red, blue, green])
+    frame, tracker, (red, blue, green) = _red_blue_green_dancers()
     front, known, waiting = tracker.dancers
-    for d, box in zip(tracker.dancers, (red, blue, green)):
-        d.stored_histogram = colour_histogram(frame, box)
-    waiting.hidden_behind = front.dancer_id
     shows = lambda box: tracker._shows_known_dancer(colour_histogram(frame, box), front)  # noqa: E731
     assert shows(blue)  # the blue dancer, plainly
     assert not shows(red)  # the front dancer's colours: tested separately, by the front's own rule
@@ -1966,16 +1973,8 @@ def test_a_waiting_dancer_is_not_kept_from_a_person_too_short_to_be_the_known_da
     person's (:meth:`_height_fits`). hdvr synth seed 2826 ballet: the waiting dancer walked out clear, detected for
     40 frames, 117 px tall; an occluded dancer 171 px tall matched her colours 0.62-0.72, could not take her, and
     the waiting dancer's box stayed at her start (IoU 0.12)."""
-    frame = np.zeros((480, 640, 3), np.uint8)
-    frame[:, :200] = (0, 0, 200)  # red figure region
-    frame[:, 200:400] = (200, 60, 0)  # blue
-    frame[:, 400:] = (40, 200, 40)  # green
-    red, blue, green = (50.0, 100.0, 80.0, 250.0), (250.0, 100.0, 80.0, 250.0), (450.0, 100.0, 80.0, 250.0)
-    tracker = MultiDancerTracker(frame, [red, blue, green], MultiTrackerConfig(emerge_known_height=True))
-    front, known, waiting = tracker.dancers
-    for d, box in zip(tracker.dancers, (red, blue, green)):
-        d.stored_histogram = colour_histogram(frame, box)
-    waiting.hidden_behind = front.dancer_id
+    frame, tracker, (red, blue, green) = _red_blue_green_dancers(MultiTrackerConfig(emerge_known_height=True))
+    front = tracker.dancers[0]
     short = (260.0, 200.0, 60.0, 150.0)  # in blue's colours, 0.6 x its height
     shows = lambda box: tracker._shows_known_dancer(colour_histogram(frame, box), front, box)  # noqa: E731
     assert shows(blue)  # the blue dancer's height: left to her

@@ -1458,7 +1458,8 @@ class MultiDancerTracker(ReportedExtent):
                 box_iou(d.box, front) >= 0.5:
             return False
         if c.front_feet_max_off is not None:
-            off = max(d.box[0] - box_centre(front)[0], box_centre(front)[0] - (d.box[0] + d.box[2]), 0.0)
+            centre_x = box_centre(front)[0]
+            off = max(d.box[0] - centre_x, centre_x - (d.box[0] + d.box[2]), 0.0)
             if off > c.front_feet_max_off * d.box[2]:
                 return False
         self._restart_on_detection(d, frame, front)
