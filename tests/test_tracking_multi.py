@@ -373,6 +373,35 @@ def test_detection_cut_by_a_dancer_in_front_keeps_the_hidden_feet():
     assert bottom(on.dancers[0].box) == pytest.approx(300.0) and off.dancers[0].box[3] == pytest.approx(150.0)
 
 
+def test_detection_that_leaves_out_legs_in_foreground_ends_where_they_end():
+    """The detector may leave out legs whose colours it does not take for a person (yellow chequered trousers):
+    a clear dancer's detection that ends above foreground running on down in its columns ends where that
+    foreground ends (``foreground_feet``), at most that share of its height lower or down to the box's bottom;
+    legs the colour of the background, or columns in another dancer's box, leave it as it is."""
+    rng = np.random.default_rng(2)
+    frame = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)  # grey noise: red and yellow are rare colours
+    frame[100:200, 300:360] = (0, 0, 255)  # upper body, red
+    frame[200:290, 315:345] = (0, 255, 255)  # legs, yellow, down to y 290
+    box, upper = (300.0, 100.0, 60.0, 200.0), (300.0, 100.0, 60.0, 100.0)
+    tracker = MultiDancerTracker(frame, [box])  # on by default, 0.6
+    d = tracker.dancers[0]
+    assert tracker._feet_in_foreground(d, frame, upper) == pytest.approx((300.0, 100.0, 60.0, 190.0))
+    assert tracker._feet_in_foreground(d, frame, (300.0, 100.0, 60.0, 40.0)) == \
+        pytest.approx((300.0, 100.0, 60.0, 190.0))  # down within the box, more than 0.6 x 40 px
+    d.box = (300.0, 100.0, 60.0, 150.0)
+    assert tracker._feet_in_foreground(d, frame, upper) == pytest.approx((300.0, 100.0, 60.0, 160.0))  # 0.6 x 100
+    d.box = box
+    tracker._adapt_box(d, frame, upper, weight=1.0, retrack=False)
+    assert d.box[1] + d.box[3] == pytest.approx(290.0, abs=1.0)
+    off = MultiDancerTracker(frame, [box], MultiTrackerConfig(foreground_feet=None))
+    assert off._feet_in_foreground(off.dancers[0], frame, upper) == upper
+    grey = frame.copy()
+    grey[200:290, 315:345] = rng.integers(90, 160, (90, 30, 3), dtype=np.uint8)  # legs like the background
+    assert tracker._feet_in_foreground(d, grey, upper) == upper
+    beside = MultiDancerTracker(frame, [box, (320.0, 150.0, 80.0, 200.0)])
+    assert beside._feet_in_foreground(beside.dancers[0], frame, upper) == upper  # that foreground may be hers
+
+
 def test_dancer_reidentified_on_a_detection_cut_by_a_dancer_in_front_keeps_its_height():
     """A hidden dancer taken again on a detection of its upper body (its legs behind a dancer in front) keeps the
     height of its box instead of shrinking to the visible part for the rest of the occlusion."""

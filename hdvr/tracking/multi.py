@@ -406,6 +406,12 @@ class MultiTrackerConfig:
     # dancer at the back of hdvr synth seed 406 ballet jumped onto a lost dancer passing in front (2 switches)
     keep_hidden_feet: bool = True  # a detection ending on the body of a dancer in front keeps the box's bottom
     # when the box adapts to it (:meth:`MultiDancerTracker._feet_hidden`)
+    foreground_feet: float | None = 0.6  # a clear dancer's detection whose bottom ends above foreground that runs
+    # on down in its columns (legs the detector left out: patterned trousers) ends where that run ends, at most
+    # this x the detection's height lower, or down to the box's bottom (None: off;
+    # :meth:`MultiDancerTracker._feet_in_foreground`; docs/tracking.md, session 67)
+    foreground_feet_rows: float = 0.25  # ... a row counts when this fraction of the detection's middle half holds
+    # foreground (columns in other dancers' boxes left out); the run may break for ``pixel_gap`` rows
     feet_of_detections_only: bool = True  # ... a detection only: a dancer taken again on a patch of its own box
     # size (cone search, its own tracker) keeps the patch as it is; a patch a little up the motion direction grew
     # by that much each time (seed 304 ballet: 134 -> 185 px in two relocations, then 2 identity switches)
@@ -1663,6 +1669,7 @@ class MultiDancerTracker(ReportedExtent):
         c = self.config
         a = c.box_adaptation if weight is None else weight
         detection = self._feet_hidden(d, detection)
+        detection = self._feet_in_foreground(d, frame, detection)
         centre = np.asarray(d.tracker.center, float)
         detected = np.array(detection[2:], float)
         # keep the convention of the initial box (e.g. a margin around the body), learned from a clear dancer's
@@ -1714,6 +1721,44 @@ class MultiDancerTracker(ReportedExtent):
             if stands_in_front(o.box, d.box, c.pixel_front) and ox <= cx <= ox + ow and oy <= bottom <= oy + oh:
                 return (x, y, w, box_bottom - y)
         return detection
+
+    def _feet_in_foreground(self, d: DancerTrack, frame, detection):
+        """``detection`` (x, y, w, h px) of clear dancer ``d``, with its bottom moved down to where the foreground
+        (:meth:`_foreground`) below it ends, when it runs on down from there: the detector left out legs whose
+        colours are rare in the background (seed 2915 hip-hop: yellow chequered trousers, detections 90-150 px
+        tall on a dancer 245 px tall). Rows are counted in the middle half of the detection's columns, less those
+        in another dancer's box reaching below the detection (that foreground may be theirs); a row counts when
+        ``foreground_feet_rows`` of them hold foreground, and the run may break for ``pixel_gap`` rows. The bottom
+        moves at most ``foreground_feet`` x the detection's height, or down to the box's bottom if that is lower.
+        Unchanged with ``foreground_feet`` None."""
+        c = self.config
+        if c.foreground_feet is None:
+            return detection
+        fg = self._foreground(frame)
+        if fg is None:
+            return detection
+        x, y, w, h = (float(v) for v in detection)
+        height, width = fg.shape
+        x0, x1 = max(0, int(round(x + w / 4))), min(width, int(round(x + 3 * w / 4)))
+        top = max(0, int(round(y + h)))
+        bottom_row = min(height, int(round(max(y + h + c.foreground_feet * h, d.box[1] + d.box[3]))))
+        if x1 - x0 < 4 or bottom_row <= top:
+            return detection
+        counted = np.ones(x1 - x0, bool)
+        for o in self.dancers:
+            if o is not d and o.status != OUT and o.box[1] + o.box[3] > top:
+                counted[max(0, int(o.box[0]) - x0):max(0, int(np.ceil(o.box[0] + o.box[2])) - x0)] = False
+        if counted.sum() < 0.5 * (x1 - x0):
+            return detection
+        filled = fg[top:bottom_row, x0:x1][:, counted].sum(axis=1) >= c.foreground_feet_rows * counted.sum()
+        last, gap = -1, 0  # the last row of the run from the detection's bottom
+        for row, full in enumerate(filled):
+            gap = 0 if full else gap + 1
+            if gap > c.pixel_gap:
+                break
+            if full:
+                last = row
+        return detection if last < 0 else (x, y, w, h + float(last + 1))
 
     @staticmethod
     def _fit_score(box, det) -> float:
