@@ -1647,12 +1647,14 @@ class MultiDancerTracker(ReportedExtent):
         needed = max(3.0, c.pixel_min_thickness * box[3])
         return float((counts[counted] >= needed).mean())
 
-    def _columns_of_others(self, d: DancerTrack, x0: int, x1: int, size, extra=()) -> np.ndarray:
+    def _columns_of_others(self, d: DancerTrack, x0: int, x1: int, size, extra=(), below: float | None = None
+                           ) -> np.ndarray:
         """bool mask of the frame columns ``x0`` to ``x1`` (px, exclusive) that lie in the box of a dancer in the
-        frame other than ``d`` or in one of the boxes ``extra`` (x, y, w, h px); ``size``: the frame's (width,
-        height) px."""
+        frame other than ``d`` (with ``below``, only of a dancer whose box reaches lower than that row, px) or in
+        one of the boxes ``extra`` (x, y, w, h px); ``size``: the frame's (width, height) px."""
         inside = np.zeros(x1 - x0, bool)
-        others = [o.box for o in self.dancers if o.status != OUT and o is not d]
+        others = [o.box for o in self.dancers if o.status != OUT and o is not d and
+                  (below is None or o.box[1] + o.box[3] > below)]
         for b in [clip_box(b, size) for b in others + list(extra)]:
             if b is not None:
                 inside[max(0, b[0] - x0):max(0, b[2] - x0)] = True
@@ -1744,10 +1746,7 @@ class MultiDancerTracker(ReportedExtent):
         bottom_row = min(height, int(round(max(y + h + c.foreground_feet * h, d.box[1] + d.box[3]))))
         if x1 - x0 < 4 or bottom_row <= top:
             return detection
-        counted = np.ones(x1 - x0, bool)
-        for o in self.dancers:
-            if o is not d and o.status != OUT and o.box[1] + o.box[3] > top:
-                counted[max(0, int(o.box[0]) - x0):max(0, int(np.ceil(o.box[0] + o.box[2])) - x0)] = False
+        counted = ~self._columns_of_others(d, x0, x1, (width, height), below=top)
         if counted.sum() < 0.5 * (x1 - x0):
             return detection
         filled = fg[top:bottom_row, x0:x1][:, counted].sum(axis=1) >= c.foreground_feet_rows * counted.sum()
