@@ -294,6 +294,49 @@ def test_pixel_growth_onto_an_arm_the_skeleton_of_the_dancer_beside_does_not_dra
     assert box[0] + box[2] > 238 + 140, box
 
 
+def test_no_pixel_growth_onto_the_arm_of_a_dancer_in_front_that_crosses_the_box():
+    """A dancer B in front (box bottom lower) spreads an arm across the box of a smaller dancer A standing half behind
+    it, and on beyond A's side. The run from A's side starts there and reaches no body core, yet it is B's arm:
+    B's clearly chosen pose draws it, or B's reported box already reaches as far. A's box keeps its width
+    (``pixel_front_limb``; hdvr synth seed 2865 hip-hop); without that evidence, or with the rule off, it grows
+    onto the arm."""
+    wall = (70, 150, 190)
+    boxes = [(330.0, 150.0, 50.0, 200.0), (262.0, 116.0, 76.0, 288.0)]  # A (behind, higher bottom), B (in front)
+
+    def scene(b_wrist=None):
+        frame = np.full((H, W, 3), wall, np.uint8)
+        frame[330:] = (90, 90, 90)
+        frame[330::24] = (130, 130, 130)
+        _figure(frame, 355.0, 150.0, 200.0, (40, 180, 40), 20.0)  # A, arms down
+        kp_b = _figure(frame, 300.0, 116.0, 288.0, (200, 60, 40), 40.0)  # B, arms down ...
+        if b_wrist is not None:  # ... but its left arm (image right) reaching out over A to x = b_wrist
+            cv2.line(frame, tuple(int(v) for v in kp_b[5, :2]), (int(b_wrist), 200), (200, 60, 40), 12)
+            kp_b[7] = ((kp_b[5, 0] + b_wrist) / 2, 200, 0.9)
+            kp_b[9] = (b_wrist, 200, 0.9)
+        return frame, kp_b
+
+    def grown(config, with_pose=True, b_growth=None):
+        frame, _ = scene()
+        tracker = MultiDancerTracker(frame, boxes, config)
+        assert tracker._bodies_overlap(boxes[0], boxes[1]) < config.pose_stack_overlap  # not stacked
+        frame, kp_b = scene(b_wrist=430.0)
+        poses, margins = ([None, _pose(kp_b)], [None, 0.6]) if with_pose else ([None, None], [None, None])
+        for _ in range(5):
+            if b_growth is not None:  # B's reported box reaches out from earlier frames
+                tracker.dancers[1].growth = np.array(b_growth, float)
+            tracker.extend_to_poses(frame, poses, margins)
+        return tracker._reported(tracker.dancers[0])
+
+    on, off = MultiTrackerConfig(grabcut_extent=False), MultiTrackerConfig(grabcut_extent=False,
+                                                                           pixel_front_limb=False)
+    np.testing.assert_allclose(grown(on), boxes[0], atol=1e-6)  # B's skeleton draws the arm
+    np.testing.assert_allclose(grown(on, with_pose=False, b_growth=(0, 0, 100, 0)), boxes[0], atol=1e-6)
+    box = grown(on, with_pose=False)  # no evidence that it is B's: A's box grows over it
+    assert box[0] + box[2] > 380 + 30, box
+    box = grown(off)  # the rule off: A's box grows over B's arm although B's skeleton draws it
+    assert box[0] + box[2] > 380 + 30, box
+
+
 def test_a_run_longer_than_the_reach_is_followed_to_where_it_ends():
     """Foreground that still runs on at ``pixel_max_reach`` is followed to ``pixel_follow_reach`` x the box height:
     ending on the body of a dancer level with this one, it was that dancer's arm, and the box does not grow

@@ -2088,6 +2088,44 @@ def test_a_dancer_whose_tracker_drifted_onto_the_background_is_lost_there():
     assert MultiTrackerConfig().lost_max_foreground == 0.1
 
 
+def test_a_waiting_dancer_whose_tracker_drifted_onto_the_background_goes_back_behind_the_dancer_in_front():
+    """A dancer waiting hidden behind another since its start (``hidden_behind``) has never been seen; its tracker,
+    which learned mostly the dancer in front, can slide off onto the wall (hdvr synth seed 2804 ballet: 60 px to
+    the left, where it stayed for 90 frames while she walked on behind him). When it is lost on the background
+    (``lost_max_foreground``), ``waiting_back_behind`` puts its box back behind the dancer it waits behind, where
+    it stood relative to him at its start (``wait_offset``), size kept; without it the box stays on the wall."""
+    rng = np.random.default_rng(3)
+    front = (300.0, 150.0, 70.0, 220.0)
+    behind = (310.0, 170.0, 50.0, 180.0)  # straight behind: its bottom (350) higher than his (370)
+    frame = _two_colour_frame(rng, [(front, ((20, 20, 220), (200, 60, 0)))])
+    on_wall = (80.0, 170.0, 50.0, 180.0)
+    boxes = {}
+    for on in (True, False):
+        tracker = MultiDancerTracker(frame, [front, behind], MultiTrackerConfig(waiting_back_behind=on))
+        d = tracker.dancers[1]
+        assert d.hidden_behind == 0
+        np.testing.assert_allclose(d.wait_offset, ((335 - 335) / 180, (350 - 370) / 180))
+        d.box = on_wall  # its tracker drifted there
+        d.tracker.init(frame, tracker._core(on_wall))
+        for _ in range(4):  # detector frames without anyone on the drifted box
+            tracker.step(frame, detections=[front])
+        assert d.status == OCCLUDED and d.lost_on_background and d.hidden_behind == 0
+        boxes[on] = d.box
+    np.testing.assert_allclose(boxes[True], behind, atol=1.0)
+    assert abs(boxes[False][0] - on_wall[0]) < 20, boxes[False]
+    assert MultiTrackerConfig().waiting_back_behind
+
+
+def test_a_box_placed_behind_a_moved_front_dancer_keeps_its_offset_in_its_own_heights():
+    from hdvr.tracking.multi import _box_behind, _offset_behind
+
+    offset = _offset_behind((310.0, 170.0, 50.0, 180.0), (300.0, 150.0, 70.0, 220.0))
+    np.testing.assert_allclose(offset, (0.0, -20 / 180))
+    offset = _offset_behind((330.0, 170.0, 50.0, 180.0), (300.0, 150.0, 70.0, 220.0))  # 20 px right of his centre
+    np.testing.assert_allclose(_box_behind((0.0, 0.0, 50.0, 180.0), (400.0, 100.0, 80.0, 240.0), offset),
+                               (440 + 20 - 25, 340 - 20 - 180, 50.0, 180.0))
+
+
 def test_a_long_missed_dancer_whose_box_shows_someone_keeps_its_own_match():
     """A thin dancer far back that the detector never finds is missed on every detector frame; after
     ``long_lost_detections`` of them the box's own colour match used to stop counting, and the dancer jumped to

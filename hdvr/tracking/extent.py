@@ -201,7 +201,44 @@ class ReportedExtent:
         others = [o for o in self.dancers if o is not d and o.status != OUT]
         if any(self._bodies_overlap(o.box, d.box) > c.pose_stack_overlap for o in others):
             return 0.0, 0.0
-        return self._run_reach(d.box, others, fg, dancer=d, chosen=(poses, margins))
+        left, right = self._run_reach(d.box, others, fg, dancer=d, chosen=(poses, margins))
+        if c.pixel_front_limb and (left > 0 or right > 0):
+            left, right = self._not_front_limbs(d, (left, right), fg.shape, poses, margins)
+        return left, right
+
+    def _not_front_limbs(self, d: DancerTrack, reach, shape, poses, margins) -> tuple[float, float]:
+        """``reach`` (px, left and right of tracked dancer ``d``'s box, :meth:`_run_reach`) less each run that is the
+        limb of a tracked dancer whose box overlaps ``d``'s and in front of whom ``d`` does not stand
+        (:func:`~hdvr.tracking.state.stands_in_front` with ``pixel_front``): that dancer's clearly chosen pose (``pose_margin``)
+        draws a limb on the run's columns at ``d``'s arm rows (``pixel_band``), or that dancer's reported box
+        already reaches as far as the run (its own evidence put its limb there), and ``d``'s own pose, if chosen
+        clearly, draws none there. Such an arm crosses ``d``'s box from the dancer in front and runs on beyond it,
+        so the run starts at ``d``'s side without reaching any body core (seed 2865 hip-hop: a dancer waiting behind
+        another took his spread arm for hers and her box doubled in width)."""
+        c = self.config
+        x, y, w, h = d.box
+        r0, r1 = y + c.pixel_band[0] * h, y + c.pixel_band[1] * h
+        strips = ((x - reach[0], r0, reach[0], r1 - r0), (x + w, r0, reach[1], r1 - r0))
+        fronts = [o for o in self.dancers if o is not d and o.status == TRACKED and box_overlap(o.box, d.box) > 0
+                  and not stands_in_front(d.box, o.box, c.pixel_front)]
+        out = list(reach)
+        for side, strip in enumerate(strips):
+            if reach[side] <= 0:
+                continue
+            end = strip[0] if side == 0 else strip[0] + strip[2]
+            theirs = any(self._clear_pose(self.dancers.index(o), poses, margins)
+                         and not self._limb_unexplained(o, strip, shape, poses, margins) for o in fronts) \
+                or any(self._reaches_past(o, end, side) for o in fronts)
+            if theirs and not (self._clear_pose(self.dancers.index(d), poses, margins)
+                               and not self._limb_unexplained(d, strip, shape, poses, margins)):
+                out[side] = 0.0
+        return out[0], out[1]
+
+    def _reaches_past(self, o: DancerTrack, end: float, side: int) -> bool:
+        """Whether dancer ``o``'s reported box (:meth:`_reported`) reaches at least to column ``end`` (px) on
+        ``side`` (0 left, 1 right)."""
+        x, _, w, _ = self._reported(o)
+        return x <= end if side == 0 else x + w >= end
 
     def _run_reach(self, box, others, fg: np.ndarray, limb_box=None, own_segment: bool = False,
                    rows=None, dancer: DancerTrack | None = None, chosen=((), ())) -> tuple[float, float]:

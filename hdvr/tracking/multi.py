@@ -237,6 +237,10 @@ class MultiTrackerConfig:
     # behind the centre of the dancer's box along its stored velocity (a moving dancer; the cone of Algorithm 1*
     # lies ahead): a tracker that slid back onto the dancer in front follows that dancer's limbs (D 2719 ballet: 44
     # px behind, similarity 0.42; F 2752 ballet: 56 px behind, on the front dancer's arm). None: no such test
+    waiting_back_behind: bool = True  # a dancer still waiting behind another since its start (``hidden_behind``)
+    # whose tracker drifted onto the floor or wall (``lost_max_foreground``) is held behind that dancer, where it
+    # stood relative to him when it began to wait (``DancerTrack.wait_offset``), not where the drift left it: nothing
+    # showed it come out (hdvr synth seed 2804 ballet)
     waiting_own_box: bool = False  # an occluded dancer still waiting hidden behind another since its start
     # (``hidden_behind``) has its own tracker's box as a candidate of re-identification and relocation
     # (:meth:`MultiDancerTracker._own_box_stays`). Off: not, its tracker having learned its start box, which showed
@@ -561,6 +565,9 @@ class MultiTrackerConfig:
     # run's columns and rows (else that side gets nothing: the limb may be that dancer's; seed 310 flamenco)
     pixel_unexplained_own: bool = True  # ... and, where this dancer's own pose is chosen clearly, that pose draws a
     # limb there: a limb that neither skeleton draws (the detector leaves spread arms out) is either's (seed 405 tango)
+    pixel_front_limb: bool = True  # a run from a tracked dancer's side on which the clearly chosen pose of a dancer
+    # overlapping its box, level or in front, draws a limb, or whose reported box reaches as far (and its own clear pose, if any, draws none), is that dancer's
+    # arm crossing its box: that side gets nothing (:meth:`MultiDancerTracker._not_front_limbs`; seed 2865 hip-hop)
     stacked_extent: bool = True  # a dancer hidden straight behind another reaches as far as foreground runs on
     # from the front dancer's box beyond that dancer's own skeleton (:meth:`MultiDancerTracker._stacked_reach`)
     stacked_tolerance: float = 0.1  # x the front dancer's height: a shorter run is no limb
@@ -648,6 +655,22 @@ def likely_windows(weights: np.ndarray, window, min_mean: float, count: int = 3,
     return centres
 
 
+def _offset_behind(box, front) -> tuple[float, float]:
+    """Where (x, y, w, h) px ``box`` stands relative to the box ``front`` of the dancer it waits behind: the offsets
+    of its centre x and its bottom from ``front``'s, in ``box`` heights (positive: right, down)."""
+    x, y, w, h = box
+    fx, fy, fw, fh = front
+    return (x + w / 2 - fx - fw / 2) / h, (y + h - fy - fh) / h
+
+
+def _box_behind(box, front, offset) -> tuple[float, float, float, float]:
+    """``box`` (x, y, w, h px; its size kept) placed at ``offset`` (:func:`_offset_behind`) from the box ``front``."""
+    _, _, w, h = box
+    fx, fy, fw, fh = front
+    cx, bottom = fx + fw / 2 + offset[0] * h, fy + fh + offset[1] * h
+    return (cx - w / 2, bottom - h, w, h)
+
+
 def _shift(box, d) -> tuple[float, float, float, float]:
     return (box[0] + float(d[0]), box[1] + float(d[1]), box[2], box[3])
 
@@ -702,6 +725,9 @@ class MultiDancerTracker(ReportedExtent):
             if o.hidden_behind is None and o.start_frame == self.frame_index and \
                     self._straight_in_front(d, o, self.config.hidden_start_overlap):
                 o.hidden_behind = d.dancer_id
+        for o in self.dancers + [d]:  # where each dancer that began to wait here stands behind its front dancer
+            if o.hidden_behind is not None and o.start_frame == self.frame_index:
+                o.wait_offset = _offset_behind(o.box, (self.dancers + [d])[o.hidden_behind].box)
         if self.config.start_seen_iou and detections:
             everyone = self.dancers + [d]
             for o in everyone:  # the new dancer, or one started in this frame that the new one hides
@@ -741,6 +767,7 @@ class MultiDancerTracker(ReportedExtent):
                      and self._straight_in_front(o, d, self.config.hidden_start_overlap)]
             if front:
                 d.hidden_behind = front[0].dancer_id
+                d.wait_offset = _offset_behind(d.box, front[0].box)
         # colours of the dancers overlapping it left out (a dancer that waits keeps those of its whole box, as at a
         # start: its emergence tests expect the front dancer's)
         mask = self._outside_cores(frame, others) if others and d.hidden_behind is None else None
@@ -1095,6 +1122,10 @@ class MultiDancerTracker(ReportedExtent):
                     # its tracker drifted onto the floor or wall: the dancer is elsewhere, and the motion measured
                     # there is the drift's
                     d.stored_velocity = np.zeros(2)
+                    if c.waiting_back_behind and d.hidden_behind is not None and d.wait_offset is not None \
+                            and self.dancers[d.hidden_behind].status != OUT:
+                        # never seen, it never came out: it still stands behind the dancer it waits behind
+                        d.stored_box = _box_behind(d.box, self.dancers[d.hidden_behind].box, d.wait_offset)
                     self._occlude(d, [])
                     d.lost_on_background = True
                     continue

@@ -73,6 +73,8 @@ class DancerTrack:
     beside_frame: int = -1
     hidden_behind: int | None = None  # id of the dancer it started mostly hidden behind: its stored colours are
     # that dancer's until it comes out (:meth:`hdvr.tracking.multi.MultiDancerTracker._emerge`); then None
+    wait_offset: tuple[float, float] | None = None  # while ``hidden_behind``: where its box stood when it began to
+    # wait, relative to that dancer's box: (centre x, bottom y) offsets in its own box heights (positive: right, down)
     start_partners: frozenset = frozenset()  # ids of the dancers whose body core overlapped this one's when either
     # started (:meth:`hdvr.tracking.multi.MultiDancerTracker.add_dancer`); exactly one: a couple in hold
     # (:meth:`hdvr.tracking.multi.MultiDancerTracker._couple_in_hold`)
