@@ -59,7 +59,7 @@ BEFORE_AFTER = (
     (2762, 5, "ballet", 4, 30, "front_follows_feet", "tracking_front_follows_feet_s2762_ballet_030.jpg"),
     (2819, 4, "hip_hop", 4, 60, "front_feet_max_off", "tracking_front_feet_max_off_s2819_hip_hop_060.jpg"),
     (2915, 2, "hip_hop", 3, 108, "foreground_feet", "tracking_foreground_feet_s2915_hip_hop_108.jpg"),
-    (2865, 2, "hip_hop", 3, 24, "pixel_front_limb", "tracking_pixel_front_limb_s2865_hip_hop_024.jpg"),
+    (2865, 2, "hip_hop", 3, 27, "pixel_front_limb", "tracking_pixel_front_limb_s2865_hip_hop_027.jpg"),
     (2804, 5, "ballet", 4, 45, "waiting_back_behind", "tracking_waiting_back_behind_s2804_ballet_045.jpg"),
 )
 #: (figures, seed, frame, picture name): a procedural crossing clip (``bench_track.py --sections identity``) where a

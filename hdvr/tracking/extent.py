@@ -209,8 +209,8 @@ class ReportedExtent:
     def _not_front_limbs(self, d: DancerTrack, reach, shape, poses, margins) -> tuple[float, float]:
         """``reach`` (px, left and right of tracked dancer ``d``'s box, :meth:`_run_reach`) less each run that is the
         limb of a tracked dancer whose box overlaps ``d``'s and in front of whom ``d`` does not stand
-        (:func:`~hdvr.tracking.state.stands_in_front` with ``pixel_front``): that dancer's clearly chosen pose (``pose_margin``)
-        draws a limb on the run's columns at ``d``'s arm rows (``pixel_band``), or that dancer's reported box
+        (:func:`~hdvr.tracking.state.stands_in_front` with ``pixel_front``): that dancer's clearly chosen pose
+        (``pose_margin``) draws a limb on the run's columns at ``d``'s arm rows (``pixel_band``), or its reported box
         already reaches as far as the run (its own evidence put its limb there), and ``d``'s own pose, if chosen
         clearly, draws none there. Such an arm crosses ``d``'s box from the dancer in front and runs on beyond it,
         so the run starts at ``d``'s side without reaching any body core (seed 2865 hip-hop: a dancer waiting behind

@@ -565,9 +565,10 @@ class MultiTrackerConfig:
     # run's columns and rows (else that side gets nothing: the limb may be that dancer's; seed 310 flamenco)
     pixel_unexplained_own: bool = True  # ... and, where this dancer's own pose is chosen clearly, that pose draws a
     # limb there: a limb that neither skeleton draws (the detector leaves spread arms out) is either's (seed 405 tango)
-    pixel_front_limb: bool = True  # a run from a tracked dancer's side on which the clearly chosen pose of a dancer
-    # overlapping its box, level or in front, draws a limb, or whose reported box reaches as far (and its own clear pose, if any, draws none), is that dancer's
-    # arm crossing its box: that side gets nothing (:meth:`MultiDancerTracker._not_front_limbs`; seed 2865 hip-hop)
+    pixel_front_limb: bool = True  # a run from a tracked dancer's side is the arm of a dancer overlapping its box,
+    # level or in front, crossing it when that dancer's clearly chosen pose draws a limb there or its reported box
+    # reaches as far (and this dancer's own clear pose, if any, draws none): that side gets nothing
+    # (:meth:`MultiDancerTracker._not_front_limbs`; seed 2865 hip-hop)
     stacked_extent: bool = True  # a dancer hidden straight behind another reaches as far as foreground runs on
     # from the front dancer's box beyond that dancer's own skeleton (:meth:`MultiDancerTracker._stacked_reach`)
     stacked_tolerance: float = 0.1  # x the front dancer's height: a shorter run is no limb
