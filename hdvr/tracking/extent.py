@@ -226,13 +226,17 @@ class ReportedExtent:
             if reach[side] <= 0:
                 continue
             end = strip[0] if side == 0 else strip[0] + strip[2]
-            theirs = any(self._clear_pose(self.dancers.index(o), poses, margins)
-                         and not self._limb_unexplained(o, strip, shape, poses, margins) for o in fronts) \
-                or any(self._reaches_past(o, end, side) for o in fronts)
-            if theirs and not (self._clear_pose(self.dancers.index(d), poses, margins)
-                               and not self._limb_unexplained(d, strip, shape, poses, margins)):
+            theirs = any(self._clearly_draws_limb(o, strip, shape, poses, margins)
+                         or self._reaches_past(o, end, side) for o in fronts)
+            if theirs and not self._clearly_draws_limb(d, strip, shape, poses, margins):
                 out[side] = 0.0
         return out[0], out[1]
+
+    def _clearly_draws_limb(self, o: DancerTrack, strip, shape, poses, margins) -> bool:
+        """Whether dancer ``o`` has a pose chosen clearly on this frame (``poses``, ``margins``: :meth:`_clear_pose`)
+        whose skeleton draws a limb in ``strip`` (x, y, w, h px; ``shape``: the frame's height, width)."""
+        j = o.dancer_id
+        return self._clear_pose(j, poses, margins) and _draws_limb(poses[j].body25(), strip, (shape[1], shape[0]))
 
     def _reaches_past(self, o: DancerTrack, end: float, side: int) -> bool:
         """Whether dancer ``o``'s reported box (:meth:`_reported`) reaches at least to column ``end`` (px) on

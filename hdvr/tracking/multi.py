@@ -726,11 +726,11 @@ class MultiDancerTracker(ReportedExtent):
             if o.hidden_behind is None and o.start_frame == self.frame_index and \
                     self._straight_in_front(d, o, self.config.hidden_start_overlap):
                 o.hidden_behind = d.dancer_id
-        for o in self.dancers + [d]:  # where each dancer that began to wait here stands behind its front dancer
+        everyone = self.dancers + [d]
+        for o in everyone:  # where each dancer that began to wait here stands behind its front dancer
             if o.hidden_behind is not None and o.start_frame == self.frame_index:
-                o.wait_offset = _offset_behind(o.box, (self.dancers + [d])[o.hidden_behind].box)
+                o.wait_offset = _offset_behind(o.box, everyone[o.hidden_behind].box)
         if self.config.start_seen_iou and detections:
-            everyone = self.dancers + [d]
             for o in everyone:  # the new dancer, or one started in this frame that the new one hides
                 if o.hidden_behind is not None and o.start_frame == self.frame_index:
                     self._seen_at_start(frame, o, everyone, detections)
@@ -1123,10 +1123,11 @@ class MultiDancerTracker(ReportedExtent):
                     # its tracker drifted onto the floor or wall: the dancer is elsewhere, and the motion measured
                     # there is the drift's
                     d.stored_velocity = np.zeros(2)
-                    if c.waiting_back_behind and d.hidden_behind is not None and d.wait_offset is not None \
-                            and self.dancers[d.hidden_behind].status != OUT:
+                    front = self.dancers[d.hidden_behind] if d.hidden_behind is not None else None
+                    if c.waiting_back_behind and front is not None and front.status != OUT \
+                            and d.wait_offset is not None:
                         # never seen, it never came out: it still stands behind the dancer it waits behind
-                        d.stored_box = _box_behind(d.box, self.dancers[d.hidden_behind].box, d.wait_offset)
+                        d.stored_box = _box_behind(d.box, front.box, d.wait_offset)
                     self._occlude(d, [])
                     d.lost_on_background = True
                     continue
