@@ -232,11 +232,19 @@ class ReportedExtent:
                 out[side] = 0.0
         return out[0], out[1]
 
-    def _clearly_draws_limb(self, o: DancerTrack, strip, shape, poses, margins) -> bool:
-        """Whether dancer ``o`` has a pose chosen clearly on this frame (``poses``, ``margins``: :meth:`_clear_pose`)
-        whose skeleton draws a limb in ``strip`` (x, y, w, h px; ``shape``: the frame's height, width)."""
+    def _clear_pose_draws_limb(self, o: DancerTrack, strip, shape, poses, margins) -> bool | None:
+        """Whether the pose chosen clearly for dancer ``o`` on this frame (``poses``, ``margins``:
+        :meth:`_clear_pose`; indexed by dancer id) draws a limb in ``strip`` (x, y, w, h px; ``shape``: the frame's
+        height, width); None when no pose was chosen clearly for it."""
         j = o.dancer_id
-        return self._clear_pose(j, poses, margins) and _draws_limb(poses[j].body25(), strip, (shape[1], shape[0]))
+        if not self._clear_pose(j, poses, margins):
+            return None
+        return _draws_limb(poses[j].body25(), strip, (shape[1], shape[0]))
+
+    def _clearly_draws_limb(self, o: DancerTrack, strip, shape, poses, margins) -> bool:
+        """Whether dancer ``o`` has a pose chosen clearly whose skeleton draws a limb in ``strip``
+        (:meth:`_clear_pose_draws_limb`)."""
+        return self._clear_pose_draws_limb(o, strip, shape, poses, margins) is True
 
     def _reaches_past(self, o: DancerTrack, end: float, side: int) -> bool:
         """Whether dancer ``o``'s reported box (:meth:`_reported`) reaches at least to column ``end`` (px) on
@@ -323,11 +331,8 @@ class ReportedExtent:
     def _limb_unexplained(self, o: DancerTrack, strip, shape, poses, margins) -> bool:
         """Whether dancer ``o`` has a pose chosen clearly on this frame (``poses``, ``margins``:
         :meth:`_clear_pose`) whose skeleton draws no limb in ``strip`` (x, y, w, h px; ``shape``: the frame's height,
-        width): foreground there is not its limb."""
-        j = next((k for k, d in enumerate(self.dancers) if d is o), None)
-        if j is None or not self._clear_pose(j, poses, margins):
-            return False
-        return not _draws_limb(poses[j].body25(), strip, (shape[1], shape[0]))
+        width): foreground there is not its limb (:meth:`_clear_pose_draws_limb`)."""
+        return self._clear_pose_draws_limb(o, strip, shape, poses, margins) is False
 
     def _clear_pose(self, j: int, poses, margins) -> bool:
         """Whether Algorithm 2* chose a pose for dancer ``j`` clearly (selection margin >= ``pose_margin``)."""
