@@ -61,6 +61,8 @@ BEFORE_AFTER = (
     (2915, 2, "hip_hop", 3, 108, "foreground_feet", "tracking_foreground_feet_s2915_hip_hop_108.jpg"),
     (2865, 2, "hip_hop", 3, 27, "pixel_front_limb", "tracking_pixel_front_limb_s2865_hip_hop_027.jpg"),
     (2804, 5, "ballet", 4, 45, "waiting_back_behind", "tracking_waiting_back_behind_s2804_ballet_045.jpg"),
+    (2870, 5, "ballet", 4, 27, "emerge_front_leaves", "tracking_emerge_front_leaves_s2870_ballet_027.jpg"),
+    (2906, 3, "flamenco", 3, 45, "emerge_height_yield", "tracking_emerge_height_yield_s2906_flamenco_045.jpg"),
 )
 #: (figures, seed, frame, picture name): a procedural crossing clip (``bench_track.py --sections identity``) where a
 #: figure that walked on behind another is held where it went behind without ``HindsightSettings.hold_min_cover``

@@ -1110,6 +1110,71 @@ def test_a_waiting_dancer_comes_out_past_another_dancer_still_waiting_where_it_i
     assert waiting.hidden_behind == further.dancer_id
 
 
+def test_of_two_dancers_waiting_near_a_person_coming_out_the_one_of_its_height_takes_it():
+    """Two dancers start hidden behind the same one: dancer 0, 200 px tall, and dancer 2, 150 px. A person 150 px tall
+    comes out beside the dancer in front, within reach of both. Dancer 0 chooses first (the dancers' order) and took
+    it; with ``emerge_height_yield`` m it leaves it to the waiting dancer whose box height fits the person's better by
+    more than m in |log(height ratio)|, and dancer 2 comes out on it (hdvr synth seed 2906 flamenco, a stack of three:
+    the middle dancer, 185 px, took the one at the back, 123 px, as she came out and kept her; 0.606 with a switch ->
+    0.972)."""
+    rng = np.random.default_rng(4)
+    front_box, tall, short = (280.0, 180.0, 120.0, 260.0), (300.0, 100.0, 60.0, 200.0), (305.0, 150.0, 50.0, 150.0)
+    person = (180.0, 150.0, 50.0, 150.0)
+    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
+    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
+    later = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (blue, yellow))])
+    for margin in (0.0, 0.1):
+        tracker = MultiDancerTracker(frame, [tall, front_box, short], MultiTrackerConfig(emerge_height_yield=margin))
+        waiting_tall, front, waiting_short = tracker.dancers
+        assert waiting_tall.hidden_behind == 1 and waiting_short.hidden_behind == 1
+        tracker._emerge(later, [front_box, person])
+        came_out = waiting_short if margin else waiting_tall
+        stayed = waiting_tall if margin else waiting_short
+        assert came_out.hidden_behind is None and abs(came_out.box[0] - person[0]) < 1.0  # (the height it keeps)
+        assert stayed.hidden_behind == 1
+    tracker = MultiDancerTracker(frame, [tall, front_box, short], MultiTrackerConfig(emerge_height_yield=0.1))
+    fits_other = lambda d, box, image: tracker._fits_other_waiting(  # noqa: E731
+        image, tracker.dancers[d], 1, box, tracker.waiting(), {}, {})
+    assert fits_other(0, person, later) and not fits_other(2, person, later)
+    far = (20.0, 150.0, 50.0, 150.0)  # beyond the short dancer's reach (emerge_distance x 150 px): not hers to take
+    assert not fits_other(0, far, _two_colour_frame(rng, [(front_box, (green, magenta)), (far, (blue, yellow))]))
+    # a person the short dancer may not come out on (in the front dancer's colours) is not left to her
+    alike = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (green, magenta))])
+    assert not fits_other(0, person, alike)
+    assert MultiTrackerConfig().emerge_height_yield == 0.1
+
+
+def test_a_dancer_in_front_walking_out_of_its_stack_takes_its_own_detection_and_the_waiting_one_comes_out():
+    """A dancer 260 px tall starts in front of one 200 px tall waiting behind it. He walks away while his box stays on
+    her (his tracker learned their stack), so the detection given to him lies on her box and she, waiting, cannot
+    take it; the detection of him beside them looks like him, so she does not take that either. With
+    ``emerge_front_leaves`` m he moves to the detection that looks like him whose height fits his box better and hers
+    worse (by more than m in |log(height ratio)|, summed), and she comes out on the one his box held (hdvr synth seed
+    2870 ballet: his box stayed on her 100 frames, another dancer later took him; 0.658 with a switch -> 0.946). Not
+    onto a person who does not look like him."""
+    rng = np.random.default_rng(6)
+    front_box, behind = (290.0, 180.0, 80.0, 260.0), (305.0, 220.0, 50.0, 200.0)
+    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
+    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
+    stayed_on_her = (300.0, 205.0, 60.0, 230.0)  # his box, adapted part of the way to her
+    # him, walked away; and a person in his colours of her height, whom the heights do not give to him
+    for walked, leaves in (((440.0, 180.0, 80.0, 260.0), True), ((440.0, 240.0, 60.0, 200.0), False)):
+        later = _two_colour_frame(rng, [(walked, (green, magenta)), (behind, (blue, yellow))])
+        for margin in (0.0, 0.05):
+            tracker = MultiDancerTracker(frame, [behind, front_box], MultiTrackerConfig(emerge_front_leaves=margin))
+            waiting, front = tracker.dancers
+            assert waiting.hidden_behind == 1
+            front.box = stayed_on_her
+            tracker._emerge(later, [behind, walked])
+            moved = bool(margin) and leaves
+            assert (waiting.hidden_behind is None) == moved
+            assert box_iou(front.box, walked if moved else stayed_on_her) > 0.9
+            if moved:
+                assert box_iou(waiting.box, behind) > 0.9
+                assert histogram_similarity(waiting.stored_histogram, colour_histogram(later, behind)) > 0.9
+    assert MultiTrackerConfig().emerge_front_leaves == 0.05
+
+
 def test_a_waiting_dancer_comes_out_half_beside_the_dancer_in_front_once_seen_there_three_times():
     """With ``emerge_beside_persist`` 3, a dancer waiting behind another takes a detection whose body core half
     overlaps the front dancer's (0.3 of it: no clear detection) when its colours are unlike the front dancer's memory

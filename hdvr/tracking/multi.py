@@ -294,6 +294,22 @@ class MultiTrackerConfig:
     # followed, then to those waiting behind a dancer who waits too (a chain: that one is hidden by two, the first by
     # one); before, in the order of the dancers' numbers (hdvr synth G 2766 ballet: dancer 1, behind dancer 2 behind
     # dancer 3, took dancer 2 as she came out, 5 switches)
+    emerge_height_yield: float = 0.1  # with m > 0, a waiting dancer leaves a detection to another dancer waiting so
+    # whose box height fits it better by more than m (|log(detection height / box height)|) and who may come out on
+    # it too (within its ``emerge_distance``, by the tests of :meth:`MultiDancerTracker._emerges_on`): of two dancers
+    # waiting near one person coming out, the one of its size is the one it shows (0: off). Session 70: hdvr synth
+    # seed 2906 flamenco, a stack of three, the middle dancer (185 px) took the one at the back (123 px) as she came
+    # out: 0.606 with a switch -> 0.972
+    emerge_front_leaves: float = 0.05  # with m > 0, a dancer in front walking out of the stack it forms with a dancer
+    # waiting behind it since its start, whose own box stayed on the waiting one: when the detection given to it lies
+    # on the waiting dancer's box (IoU >= 0.5) and an untaken detection within ``emerge_distance`` of its box, clear
+    # of the body cores of the held detection and of the other dancers (the waiting one's too), looks like it (its
+    # memory matched at least ``reid_similarity`` and by at most ``reid_margin`` less than its box now) and fits the
+    # two heights the other way round (the front dancer's box height closer to it, the waiting dancer's closer to the
+    # held detection, together by more than m in |log(height ratio)|), the front dancer moves to that detection and
+    # the waiting one comes out on the held one (:meth:`MultiDancerTracker._front_leaves`; 0: off). Session 70: hdvr
+    # synth seed 2870 ballet, his box stayed on her as he walked away, and another dancer later took him: 0.658 with
+    # a switch -> 0.948
     emerge_min_aspect: float = 0.3  # ``emerge_max_aspect`` counts a waiting dancer's box as at least this wide for its
     # height (a start box seen side-on, 0.27, made a dancer turning to the camera as she came out "too wide")
     hidden_front_rival: bool = True  # while such a dancer waits, the dancer hiding it is one more rival when it is
@@ -2204,7 +2220,10 @@ class MultiDancerTracker(ReportedExtent):
         on each of the N - 1 detector frames before (``DancerTrack.beside_now`` / ``beside_before``; detector frames
         as :meth:`_count_detector_frame` counts them); with ``emerge_own_margin`` m, so does one on the dancer's own
         box (IoU >= 0.5) however much it overlaps the others, when its colours match the front dancer's memory by m
-        less than his box does now. ``front_histograms``: a dict of the colour histograms of the
+        less than his box does now. With ``emerge_height_yield`` a dancer leaves a detection to another waiting dancer
+        of its height who may take it (:meth:`_fits_other_waiting`); with ``emerge_front_leaves`` a dancer in front
+        whose box stayed on the dancer waiting behind it moves to the detection of him beside them, and she comes
+        out (:meth:`_front_leaves`). ``front_histograms``: a dict of the colour histograms of the
         front dancers' boxes, by (dancer id, box), shared by the calls of a frame."""
         c = self.config
         front_histograms = {} if front_histograms is None else front_histograms
@@ -2215,63 +2234,34 @@ class MultiDancerTracker(ReportedExtent):
             waiting.sort(key=lambda d: self.dancers[d.hidden_behind].hidden_behind is not None)
         dets = [tuple(float(v) for v in det) for det in detections]
         holders = [o for o in self.dancers if o.status == TRACKED and o.hidden_behind is None]
-        taken = {k for _, k in self._fit_assignment([o.box for o in holders], dets)[1]} if holders else set()
+        held = {holders[i].dancer_id: k for i, k in self._fit_assignment([o.box for o in holders], dets)[1]} \
+            if holders else {}
+        taken = set(held.values())
         histograms = {}  # detection index -> its colour histogram, computed once for all waiting dancers
         for d in waiting:
-            front = self.dancers[d.hidden_behind]
-            centre = np.asarray(box_centre(d.box))
-            unlike_front = c.reid_similarity
-            front_now = None  # how well the front dancer's box matches its memory now
-            if c.emerge_relative and front.status == TRACKED:
-                key = (front.dancer_id, tuple(front.box))
-                if key not in front_histograms:
-                    front_histograms[key] = self._histogram(frame, front.box)
-                front_hist = front_histograms[key]
-                if front_hist is not None:
-                    front_now = histogram_similarity(front_hist, front.stored_histogram)
-                    unlike_front = max(unlike_front, front_now - c.reid_margin)
-            best, best_distance = None, c.emerge_distance * d.box[3]
             if c.emerge_beside_persist and d.beside_frame != self.frame_index:  # a new detector frame
                 # what lay beside it counts only if it was seen on the detector frame just before this one
                 d.beside_before = d.beside_now if d.beside_frame == self.previous_detector_frame else []
                 d.beside_now, d.beside_frame = [], self.frame_index
+        for d in waiting:
+            front = self.dancers[d.hidden_behind]
+            unlike_front, front_now = self._front_likeness(frame, front, front_histograms)
+            if c.emerge_front_leaves > 0 and front.hidden_behind is None and front.dancer_id in held and \
+                    self._front_leaves(frame, d, front, dets, held[front.dancer_id], taken, histograms,
+                                       unlike_front):
+                continue
+            centre = np.asarray(box_centre(d.box))
+            best, best_distance = None, c.emerge_distance * d.box[3]
             for k, det in enumerate(dets):
-                if k in taken or not _height_within(det, d.box, c.max_height_change) \
-                        or self._wider_than(det, d, c.emerge_max_aspect, c.emerge_min_aspect):
+                if k in taken:
                     continue
                 distance = float(np.linalg.norm(np.asarray(box_centre(det)) - centre))
                 if distance > best_distance:
                     continue
-                fit = box_iou(det, d.box)
-                overlaps = [(o, self._bodies_overlap(det, o.box)) for o in self.dancers
-                            if o is not d and o.status != OUT and not (
-                                c.emerge_past_waiting and o.hidden_behind is not None
-                                and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
-                overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
-                half_beside = bool(overlapped) and max(v for _, v in overlaps) < c.emerge_beside_overlap
-                own = bool(c.emerge_own_margin) and c.emerge_beside_persist and fit >= 0.5 and front_now is not None
-                if overlapped and not own and (not c.emerge_beside_persist or not half_beside):
+                hist = self._emerges_on(frame, d, k, det, unlike_front, front_now, histograms)
+                if hist is None or (c.emerge_height_yield > 0 and self._fits_other_waiting(
+                        frame, d, k, det, waiting, histograms, front_histograms)):
                     continue
-                if k not in histograms:
-                    histograms[k] = self._histogram(frame, det)
-                hist = histograms[k]
-                if hist is None:
-                    continue
-                like_front = histogram_similarity(hist, front.stored_histogram)
-                if like_front >= unlike_front or self._shows_known_dancer(hist, front, det):
-                    continue
-                if overlapped:  # beside others: unlike each of them, and there on the detector frames before
-                    beside = half_beside and not any(
-                        o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
-                        >= c.emerge_beside_similarity for o in overlapped)
-                    # or on its own box, far less like the dancer in front than his own box is now
-                    on_own = own and like_front < front_now - c.emerge_own_margin
-                    if not (beside or on_own):
-                        continue
-                    count = _chain_length(d.beside_before, det)
-                    d.beside_now.append((det, count))
-                    if count < c.emerge_beside_persist:
-                        continue
                 best, best_distance = (k, hist), distance
             if best is None:
                 continue
@@ -2284,6 +2274,132 @@ class MultiDancerTracker(ReportedExtent):
                 self._take(d, det, 1.0)
                 d.tracker.init(frame, self._core(d.box))
             d.stored_histogram, d.hidden_behind = hist, None
+
+    def _front_likeness(self, frame, front: DancerTrack, front_histograms: dict) -> tuple[float, float | None]:
+        """(unlike_front, front_now) for a dancer waiting behind ``front``: the match of the front dancer's memory
+        below which a detection does not look like him (``reid_similarity``, or with ``emerge_relative`` up to
+        ``reid_margin`` less than his box matches it now), and that match of his box now (None if not known).
+        ``front_histograms``: the colour histograms of the front dancers' boxes, by (dancer id, box)."""
+        c = self.config
+        unlike_front, front_now = c.reid_similarity, None
+        if c.emerge_relative and front.status == TRACKED:
+            key = (front.dancer_id, tuple(front.box))
+            if key not in front_histograms:
+                front_histograms[key] = self._histogram(frame, front.box)
+            front_hist = front_histograms[key]
+            if front_hist is not None:
+                front_now = histogram_similarity(front_hist, front.stored_histogram)
+                unlike_front = max(unlike_front, front_now - c.reid_margin)
+        return unlike_front, front_now
+
+    def _emerges_on(self, frame, d: DancerTrack, k: int, det, unlike_front: float, front_now: float | None,
+                    histograms: dict, record: bool = True):
+        """The colour histogram of detection ``det`` (index ``k``; x, y, w, h px) if waiting dancer ``d`` may come
+        out on it by the tests of :meth:`_emerge` but distance and being taken; else None. ``unlike_front``,
+        ``front_now``: :meth:`_front_likeness` of its front dancer; ``histograms``: detection index -> histogram,
+        shared. A detection beside others is counted on ``d.beside_now`` (``record``; not when asked on another's
+        behalf)."""
+        c = self.config
+        front = self.dancers[d.hidden_behind]
+        if not _height_within(det, d.box, c.max_height_change) \
+                or self._wider_than(det, d, c.emerge_max_aspect, c.emerge_min_aspect):
+            return None
+        fit = box_iou(det, d.box)
+        overlaps = [(o, self._bodies_overlap(det, o.box)) for o in self.dancers
+                    if o is not d and o.status != OUT and not (
+                        c.emerge_past_waiting and o.hidden_behind is not None
+                        and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
+        overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
+        half_beside = bool(overlapped) and max(v for _, v in overlaps) < c.emerge_beside_overlap
+        own = bool(c.emerge_own_margin) and c.emerge_beside_persist and fit >= 0.5 and front_now is not None
+        if overlapped and not own and (not c.emerge_beside_persist or not half_beside):
+            return None
+        if k not in histograms:
+            histograms[k] = self._histogram(frame, det)
+        hist = histograms[k]
+        if hist is None:
+            return None
+        like_front = histogram_similarity(hist, front.stored_histogram)
+        if like_front >= unlike_front or self._shows_known_dancer(hist, front, det):
+            return None
+        if overlapped:  # beside others: unlike each of them, and there on the detector frames before
+            beside = half_beside and not any(
+                o.stored_histogram is not None and histogram_similarity(hist, o.stored_histogram)
+                >= c.emerge_beside_similarity for o in overlapped)
+            # or on its own box, far less like the dancer in front than his own box is now
+            on_own = own and like_front < front_now - c.emerge_own_margin
+            if not (beside or on_own):
+                return None
+            count = _chain_length(d.beside_before, det)
+            if record:
+                d.beside_now.append((det, count))
+            if count < c.emerge_beside_persist:
+                return None
+        return hist
+
+    def _front_leaves(self, frame, d: DancerTrack, front: DancerTrack, dets: list, k_held: int, taken: set,
+                      histograms: dict, like_front_min: float) -> bool:
+        """With ``emerge_front_leaves``: whether dancer ``front``, holding detection ``k_held`` that lies on the box
+        of dancer ``d`` waiting behind it, walked out of their stack onto another of ``dets`` (see the option); if
+        so, ``front`` is moved there and ``d`` comes out on the held detection (both then in ``taken``).
+        ``like_front_min``: the least match of the front dancer's memory that looks like him (``unlike_front`` of
+        :meth:`_front_likeness`, at least ``reid_similarity``)."""
+        c = self.config
+        held = dets[k_held]
+        if box_iou(held, d.box) < 0.5 or front.stored_histogram is None:
+            return False
+        front_centre = np.asarray(box_centre(front.box))
+        best = None
+        for k, det in enumerate(dets):
+            if k in taken or float(np.linalg.norm(np.asarray(box_centre(det)) - front_centre)) > \
+                    c.emerge_distance * front.box[3]:
+                continue
+            gain = abs(np.log(held[3] / front.box[3])) - abs(np.log(det[3] / front.box[3])) + \
+                abs(np.log(det[3] / d.box[3])) - abs(np.log(held[3] / d.box[3]))
+            if gain <= c.emerge_front_leaves or self._bodies_overlap(det, held) > c.overlap_threshold or any(
+                    self._bodies_overlap(det, o.box) > c.overlap_threshold
+                    for o in self.dancers if o is not front and o.status != OUT):
+                continue  # beside the waiting dancer and everyone else (his own box may still lie on her)
+            if k not in histograms:
+                histograms[k] = self._histogram(frame, det)
+            if histograms[k] is None or histogram_similarity(histograms[k], front.stored_histogram) < like_front_min:
+                continue
+            if best is None or gain > best[1]:
+                best = (k, gain)
+        if best is None:
+            return False
+        k = best[0]
+        self._take(front, dets[k], histogram_similarity(histograms[k], front.stored_histogram))
+        front.tracker.init(frame, self._core(front.box))
+        if d.status != TRACKED:  # as :meth:`_emerge` places a dancer coming out
+            self._take(d, held, 1.0)
+            d.tracker.init(frame, self._core(d.box))
+        if k_held not in histograms:
+            histograms[k_held] = self._histogram(frame, held)
+        own = histograms[k_held] if histograms[k_held] is not None else self._histogram(frame, d.box)
+        if own is not None:
+            d.stored_histogram = own
+        d.hidden_behind = None
+        taken.add(k)
+        return True
+
+    def _fits_other_waiting(self, frame, d: DancerTrack, k: int, det, waiting: list[DancerTrack], histograms: dict,
+                            front_histograms: dict) -> bool:
+        """With ``emerge_height_yield`` m, whether detection ``det`` (index ``k``; x, y, w, h px) fits another of the
+        ``waiting`` dancers than ``d`` better by height, its box height closer to the detection's by more than m in
+        |log(detection height / box height)|, and that dancer, still waiting, may come out on it too: within its
+        ``emerge_distance``, and by the tests of :meth:`_emerges_on`."""
+        c = self.config
+        mine = abs(np.log(det[3] / d.box[3]))
+        centre = np.asarray(box_centre(det))
+        for e in waiting:
+            if e is d or e.hidden_behind is None or abs(np.log(det[3] / e.box[3])) + c.emerge_height_yield >= mine \
+                    or float(np.linalg.norm(centre - np.asarray(box_centre(e.box)))) > c.emerge_distance * e.box[3]:
+                continue
+            unlike_front, front_now = self._front_likeness(frame, self.dancers[e.hidden_behind], front_histograms)
+            if self._emerges_on(frame, e, k, det, unlike_front, front_now, histograms, record=False) is not None:
+                return True
+        return False
 
     def _shows_known_dancer(self, hist, front: DancerTrack, detection=None) -> bool:
         """With ``emerge_yields_to_known``, whether a detection with colour histogram ``hist`` shows a dancer other
