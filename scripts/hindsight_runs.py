@@ -15,6 +15,8 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
     # or only those where a dancer starts hidden (in an earlier score file; a rule for such dancers changes no other)
     python3 scripts/hindsight_runs.py save --clips-dir CLIPS --hidden-starts-of SCORES.json --runs RUNS \\
         --detections DETS
+    # or the same told from the truth's start boxes, before anything is rendered
+    python3 scripts/hindsight_runs.py save --clips-dir CLIPS --seeds 2801,2802 --hidden-starts-only --runs RUNS
     # score hindsight settings on the kept runs
     python3 scripts/hindsight_runs.py score --clips-dir CLIPS --runs RUNS [--set keypoint_reach=0.1 ...] \\
         [--per-clip-json F.json]
@@ -163,6 +165,42 @@ def hidden_start_clips(path: Path) -> list[tuple[int, int]]:
     return pairs
 
 
+def starts_hidden(truth_boxes: np.ndarray, config=None) -> bool:
+    """Whether a dancer of (T, N, 4) px ground-truth boxes starts hidden behind another by the tracker's own test
+    (``MultiDancerTracker.add_dancer``, ``MultiTrackerConfig`` ``config``, default the default one): at its start,
+    another dancer started then or before covers more than ``hidden_start_overlap`` of its body core (intersection /
+    smaller core) and stands in front (box bottom ``pixel_front`` x its height lower). Start boxes stand for the
+    others' tracked boxes, which the tracker has there."""
+    from hdvr.tracking.multi import MultiTrackerConfig, body_core, box_overlap
+    from hdvr.tracking.state import stands_in_front
+
+    c = config or MultiTrackerConfig()
+    _, starts = _starts_from_truth(truth_boxes)
+    core = lambda box: body_core(box, c.core_aspect)  # noqa: E731
+    return any(box_overlap(core(front.box), core(start.box)) > c.hidden_start_overlap
+               and stands_in_front(front.box, start.box, c.pixel_front)
+               for start in starts for front in starts if front is not start and front.frame <= start.frame)
+
+
+def truth_hidden_start_clips(pairs, seconds: float = 4.0) -> list[tuple[int, int]]:
+    """The (seed, clip index) of ``pairs`` in which a dancer starts hidden behind another (:func:`starts_hidden`),
+    from the clips' motion and camera alone (generated without rendering, about 0.5 s a clip): the only clips a rule
+    for such dancers can change, chosen before any is rendered or tracked."""
+    import tempfile
+
+    from hdvr.synth.groundtruth import make_clip
+
+    kept = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for seed, index in pairs:
+            spec = clip_spec(seed, index, seconds)
+            make_clip(tmp, spec, render=False)
+            truth_boxes, _ = _seen_truth(Path(tmp) / spec.name)
+            if starts_hidden(truth_boxes):
+                kept.append((seed, index))
+    return kept
+
+
 def save(args) -> int:
     from hdvr.synth.groundtruth import make_clip
 
@@ -178,6 +216,9 @@ def save(args) -> int:
     if any(not 0 <= i < len(SYNTH_CLIPS) for _, i in pairs):
         given = args.clips or args.keys or str(args.hidden_starts_of)
         raise SystemExit(f"hindsight_runs: clip indices are 0-{len(SYNTH_CLIPS) - 1}, got {given!r}")
+    if args.hidden_starts_only:
+        pairs = truth_hidden_start_clips(pairs, args.seconds)
+        print(f"{len(pairs)} clips with a hidden start: {','.join(f'{s}_{i}' for s, i in pairs)}", file=sys.stderr)
     config = parse_tracker_config(args.tracker_config)
     args.runs.mkdir(parents=True, exist_ok=True)
     detector = default_tracking_detector()
@@ -244,6 +285,9 @@ def main(argv=None) -> int:
     sv.add_argument("--hidden-starts-of", type=Path, metavar="SCORES.json",
                     help="track instead the clips of this per-clip score file (score --per-clip-json) in which a "
                          "dancer starts hidden behind another: the only ones a rule for such dancers can change")
+    sv.add_argument("--hidden-starts-only", action="store_true",
+                    help="of the clips chosen, track only those in which a dancer starts hidden behind another, "
+                         "told from their truth's start boxes before any is rendered (no score file needed)")
     sv.add_argument("--runs", type=Path, required=True, help="folder for the kept runs")
     sv.add_argument("--clips", help="comma-separated clip indices per seed (default all: "
                     + ", ".join(f"{i} {g} {n}" for i, (g, n) in enumerate(SYNTH_CLIPS)) + ")")

@@ -107,6 +107,30 @@ def test_the_clips_with_a_hidden_start_are_read_from_a_score_file(tmp_path):
                      "--hidden-starts-of", str(tmp_path / "old.json")])
 
 
+def test_a_hidden_start_is_told_from_the_truth_s_start_boxes_by_the_tracker_s_test():
+    """``starts_hidden``: a dancer whose body core lies mostly inside that of one started then or before, whose box
+    bottom is lower (in front), starts hidden; beside him, or in front of him, or started before him, it does not.
+    ``save --hidden-starts-only`` picks such clips from their motion alone (seed 2809: its tango, swing and first
+    hip-hop clip start a couple one behind the other, the others do not), the 295 of the 1,260 rendered clips of
+    docs/benchmarks.md that session 68 had from its score files."""
+    script = load_script("hindsight_runs")
+
+    def truth(*boxes_by_frame):  # per dancer, its box from the given start frame on (NaN before)
+        frames = 3
+        out = np.full((frames, len(boxes_by_frame), 4), np.nan)
+        for i, (start, box) in enumerate(boxes_by_frame):
+            out[start:, i] = box
+        return out
+
+    front, behind = (100.0, 100.0, 60.0, 200.0), (105.0, 80.0, 50.0, 180.0)
+    assert script.starts_hidden(truth((0, behind), (0, front)))
+    assert script.starts_hidden(truth((1, behind), (0, front)))  # started later, behind one already there
+    assert not script.starts_hidden(truth((0, behind), (1, front)))  # the one in front came later: seen before
+    assert not script.starts_hidden(truth((0, (300.0, 80.0, 50.0, 180.0)), (0, front)))  # beside him
+    assert not script.starts_hidden(truth((0, (105.0, 130.0, 50.0, 180.0)), (0, front)))  # her feet level with his
+    assert script.truth_hidden_start_clips([(2809, i) for i in range(6)]) == [(2809, 0), (2809, 1), (2809, 2)]
+
+
 def test_bad_runs_and_missing_truth_are_one_line_errors(tmp_path):
     script = load_script("hindsight_runs")
     with pytest.raises(SystemExit, match="no kept runs"):
