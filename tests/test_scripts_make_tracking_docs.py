@@ -5,6 +5,7 @@ import os
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "make_tracking_docs.py"
 
@@ -83,6 +84,7 @@ def test_the_procedural_trim_picture_shows_the_boxes_without_and_with_foreground
     _assert_two_panels(path)
 
 
+@pytest.mark.slow  # 50-60 s (a troupe of 8 tracked twice); CI runs the crossing pictures of the same drawing
 def test_the_procedural_lost_picture_shows_the_troupe_without_and_with_the_whole_frame_search(monkeypatch, tmp_path):
     """``--only procedural-lost``: the procedural troupe of 8 figures, seed 1, tracked as ``hdvr track`` does
     without (left) and with (right) ``lost_search_after``. With a detector that runs but finds no one (the tracker
@@ -122,6 +124,7 @@ def test_the_procedural_vertical_picture_shows_the_crossing_without_and_with_the
     _assert_two_panels(path, 1.3)  # crops of figures 320 px tall: each panel nearly as tall as wide
 
 
+@pytest.mark.slow  # 50-60 s (a troupe of 8 tracked twice); CI runs the crossing pictures of the same drawing
 def test_the_procedural_vertical_cap_picture_shows_the_troupe_without_and_with_the_cap(monkeypatch, tmp_path):
     """``--only procedural-vertical-cap``: the procedural troupe of 8 figures, seed 1, tracked as ``hdvr track``
     does, with YOLO11n-pose at 480 px on every 3rd frame, without (left) and with (right) ``max_vertical_speed``.
