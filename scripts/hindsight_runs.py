@@ -167,18 +167,17 @@ def hidden_start_clips(path: Path) -> list[tuple[int, int]]:
 
 def starts_hidden(truth_boxes: np.ndarray, config=None) -> bool:
     """Whether a dancer of (T, N, 4) px ground-truth boxes starts hidden behind another by the tracker's own test
-    (``MultiDancerTracker.add_dancer``, ``MultiTrackerConfig`` ``config``, default the default one): at its start,
+    (``MultiDancerTracker.add_dancer``: :func:`hdvr.tracking.state.straight_in_front`, with ``MultiTrackerConfig``
+    ``config``, default the default one): at its start,
     another dancer started then or before covers more than ``hidden_start_overlap`` of its body core (intersection /
     smaller core) and stands in front (box bottom ``pixel_front`` x its height lower). Start boxes stand for the
     others' tracked boxes, which the tracker has there."""
-    from hdvr.tracking.multi import MultiTrackerConfig, body_core, box_overlap
-    from hdvr.tracking.state import stands_in_front
+    from hdvr.tracking.multi import MultiTrackerConfig
+    from hdvr.tracking.state import straight_in_front
 
     c = config or MultiTrackerConfig()
     _, starts = _starts_from_truth(truth_boxes)
-    core = lambda box: body_core(box, c.core_aspect)  # noqa: E731
-    return any(box_overlap(core(front.box), core(start.box)) > c.hidden_start_overlap
-               and stands_in_front(front.box, start.box, c.pixel_front)
+    return any(straight_in_front(front.box, start.box, c.core_aspect, c.hidden_start_overlap, c.pixel_front)
                for start in starts for front in starts if front is not start and front.frame <= start.frame)
 
 

@@ -3,7 +3,8 @@
 import numpy as np
 
 from hdvr.tracking.appearance import colour_histogram, histogram_similarity
-from hdvr.tracking.state import TRACKED, DancerTrack, box_at, box_centre, covered_fraction, stands_in_front
+from hdvr.tracking.state import (TRACKED, DancerTrack, box_at, box_centre, covered_fraction, stands_in_front,
+                                 straight_in_front)
 
 
 def test_box_at_keeps_the_size_and_centres_it():
@@ -62,6 +63,16 @@ def test_a_box_stands_in_front_when_its_bottom_is_lower_by_the_margin_of_the_oth
     assert stands_in_front((90.0, 120.0, 60.0, 191.0), behind, 0.05)  # bottom 311
     assert not stands_in_front((90.0, 120.0, 60.0, 190.0), behind, 0.05)  # bottom 310: level
     assert not stands_in_front(behind, (90.0, 120.0, 60.0, 191.0), 0.05)
+
+
+def test_a_box_stands_straight_in_front_when_the_body_cores_overlap_and_its_bottom_is_lower():
+    """``straight_in_front``: body cores (0.3 x the height wide) overlapping by more than the given share of the
+    smaller, and the front box's bottom lower by the margin; spread arms (a wide box) do not make an overlap."""
+    behind = (100.0, 100.0, 40.0, 200.0)  # core x 100-140, bottom 300
+    assert straight_in_front((95.0, 110.0, 60.0, 210.0), behind, 0.3, 0.5, 0.05)  # core 93.5-156.5, bottom 320
+    assert not straight_in_front((95.0, 90.0, 60.0, 210.0), behind, 0.3, 0.5, 0.05)  # bottom level: not in front
+    assert not straight_in_front((125.0, 110.0, 60.0, 210.0), behind, 0.3, 0.5, 0.05)  # cores overlap 15 of 40 px
+    assert not straight_in_front((80.0, 110.0, 300.0, 210.0), behind, 0.3, 0.5, 0.05)  # arms over her, core beside
 
 
 def test_covered_fraction_is_the_share_of_the_body_core_inside_the_others_body_cores():

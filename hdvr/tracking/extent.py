@@ -27,7 +27,7 @@ import numpy as np
 from hdvr.pose2d.selection import skeleton_mask
 from hdvr.tracking.appearance import box_overlap
 from hdvr.tracking.state import (OCCLUDED, OUT, TRACKED, DancerTrack, FrameResult, box_at, box_centre,
-                                 stands_in_front)
+                                 stands_in_front, straight_in_front)
 
 
 def _draws_limb(keypoints25: np.ndarray, strip, frame_size) -> bool:
@@ -173,7 +173,7 @@ class ReportedExtent:
         ``pixel_front`` x ``d``'s height lower in the image."""
         c = self.config
         overlap = c.pose_stack_overlap if overlap is None else overlap
-        return self._bodies_overlap(f.box, d.box) > overlap and stands_in_front(f.box, d.box, c.pixel_front)
+        return straight_in_front(f.box, d.box, c.core_aspect, overlap, c.pixel_front)
 
     def _pixel_reach(self, d: DancerTrack, fg: np.ndarray, poses=(), margins=()) -> tuple[float, float]:
         """How far (px) foreground pixels (``fg``: :func:`hdvr.tracking.appearance.foreground_mask`) run on from

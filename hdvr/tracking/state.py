@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from hdvr.tracking.appearance import colour_histogram, histogram_similarity
+from hdvr.tracking.appearance import box_overlap, colour_histogram, histogram_similarity
 from hdvr.tracking.ldes import LDESTracker
 
 TRACKED, OCCLUDED, OUT = "tracked", "occluded", "out"
@@ -165,3 +165,11 @@ def stands_in_front(front, behind, margin: float) -> bool:
     """Whether the person in (x, y, w, h) px box ``front`` stands in front of the one in ``behind``: its box bottom
     is ``margin`` x ``behind``'s height lower in the image (the floor rises towards the horizon)."""
     return front[1] + front[3] > behind[1] + behind[3] + margin * behind[3]
+
+
+def straight_in_front(front, behind, aspect: float, overlap: float, margin: float) -> bool:
+    """Whether the person in (x, y, w, h) px box ``front`` stands straight in front of the one in ``behind``: their
+    body cores (:func:`body_core` with ``aspect``) overlap by more than ``overlap`` (intersection / smaller) and
+    ``front`` stands in front (:func:`stands_in_front` with ``margin``)."""
+    return box_overlap(body_core(front, aspect), body_core(behind, aspect)) > overlap and \
+        stands_in_front(front, behind, margin)
