@@ -651,6 +651,11 @@ def _height_within(box, reference, factor: float) -> bool:
     return 1 / factor <= box[3] / reference[3] <= factor
 
 
+def _height_misfit(box, reference) -> float:
+    """|log(height ratio)| of two (x, y, w, h px) boxes: 0 for the same height, as much for twice as for half."""
+    return abs(float(np.log(box[3] / reference[3])))
+
+
 def likely_windows(weights: np.ndarray, window, min_mean: float, count: int = 3,
                    step: int = 4) -> list[np.ndarray]:
     """Centres (x, y) px of up to ``count`` windows of ``window`` = (width, height) px whose mean of ``weights``
@@ -2354,22 +2359,25 @@ class MultiDancerTracker(ReportedExtent):
             if k in taken or float(np.linalg.norm(np.asarray(box_centre(det)) - front_centre)) > \
                     c.emerge_distance * front.box[3]:
                 continue
-            gain = abs(np.log(held[3] / front.box[3])) - abs(np.log(det[3] / front.box[3])) + \
-                abs(np.log(det[3] / d.box[3])) - abs(np.log(held[3] / d.box[3]))
+            # his box fits this detection better than the held one, hers the held one better than this
+            gain = _height_misfit(held, front.box) - _height_misfit(det, front.box) + \
+                _height_misfit(det, d.box) - _height_misfit(held, d.box)
             if gain <= c.emerge_front_leaves or self._bodies_overlap(det, held) > c.overlap_threshold or any(
                     self._bodies_overlap(det, o.box) > c.overlap_threshold
                     for o in self.dancers if o is not front and o.status != OUT):
                 continue  # beside the waiting dancer and everyone else (his own box may still lie on her)
             if k not in histograms:
                 histograms[k] = self._histogram(frame, det)
-            if histograms[k] is None or histogram_similarity(histograms[k], front.stored_histogram) < like_front_min:
+            like_front = histogram_similarity(histograms[k], front.stored_histogram) \
+                if histograms[k] is not None else -np.inf
+            if like_front < like_front_min:
                 continue
             if best is None or gain > best[1]:
-                best = (k, gain)
+                best = (k, gain, like_front)
         if best is None:
             return False
-        k = best[0]
-        self._take(front, dets[k], histogram_similarity(histograms[k], front.stored_histogram))
+        k, _, like_front = best
+        self._take(front, dets[k], like_front)
         front.tracker.init(frame, self._core(front.box))
         if d.status != TRACKED:  # as :meth:`_emerge` places a dancer coming out
             self._take(d, held, 1.0)
@@ -2390,10 +2398,10 @@ class MultiDancerTracker(ReportedExtent):
         |log(detection height / box height)|, and that dancer, still waiting, may come out on it too: within its
         ``emerge_distance``, and by the tests of :meth:`_emerges_on`."""
         c = self.config
-        mine = abs(np.log(det[3] / d.box[3]))
+        mine = _height_misfit(det, d.box)
         centre = np.asarray(box_centre(det))
         for e in waiting:
-            if e is d or e.hidden_behind is None or abs(np.log(det[3] / e.box[3])) + c.emerge_height_yield >= mine \
+            if e is d or e.hidden_behind is None or _height_misfit(det, e.box) + c.emerge_height_yield >= mine \
                     or float(np.linalg.norm(centre - np.asarray(box_centre(e.box)))) > c.emerge_distance * e.box[3]:
                 continue
             unlike_front, front_now = self._front_likeness(frame, self.dancers[e.hidden_behind], front_histograms)
