@@ -63,6 +63,8 @@ BEFORE_AFTER = (
     (2804, 5, "ballet", 4, 45, "waiting_back_behind", "tracking_waiting_back_behind_s2804_ballet_045.jpg"),
     (2870, 5, "ballet", 4, 27, "emerge_front_leaves", "tracking_emerge_front_leaves_s2870_ballet_027.jpg"),
     (2906, 3, "flamenco", 3, 45, "emerge_height_yield", "tracking_emerge_height_yield_s2906_flamenco_045.jpg"),
+    (2844, 0, "tango", 2, 54, "waiting_counts_behind", "tracking_waiting_counts_behind_s2844_tango_054.jpg"),
+    (2922, 3, "flamenco", 3, 81, "reid_radius_growth", "tracking_reid_radius_growth_s2922_flamenco_081.jpg"),
 )
 #: (figures, seed, frame, picture name): a procedural crossing clip (``bench_track.py --sections identity``) where a
 #: figure that walked on behind another is held where it went behind without ``HindsightSettings.hold_min_cover``

@@ -136,6 +136,13 @@ class MultiTrackerConfig:
     # 7, 8 clips up, 5 down (2210 hip-hop 0.919 -> 0.783: a waiting dancer's box a few px off its amodal truth);
     # only where the front dancer moves like none it overlaps (a dragged tracker moves with the dancer dragging it):
     # 18 failing. Measured worse in session 17 on the code then (seed 208 tango), which no longer changes
+    waiting_counts_behind: bool = True  # ... and a dancer waiting hidden behind it since its start counts as
+    # behind it whatever their boxes' bottoms: the waiting box is a guess (its start box, moved with the front
+    # dancer's), not a place the dancer was seen standing. Seed 2844 tango (session 71): the woman waiting behind
+    # the man stepped out to his side; her guessed box's bottom came level with his, he no longer counted as in
+    # front, turned, failed the direction test while fully seen (colours 0.99 of his memory), and stood predicted
+    # as occluded for 62 frames, his prediction on her detection so that she could not come out (IDF1 0.762 ->
+    # 0.938). Its correlation peak, histogram and same-person tests still apply.
     same_person_iou: float = 0.5  # two tracked boxes overlapping more than this (IoU) may be on the same person:
     # the one matching its own memory worse has failed
     waiting_yields: bool = True  # ... except that a dancer still waiting hidden behind the other (``hidden_behind``)
@@ -187,6 +194,14 @@ class MultiTrackerConfig:
     hold_found_streak: int = 3  # ... detector frames in a row, while clear, on which a person lay on its box
     reid_similarity: float = 0.6  # before the predicted end of an overlap, a clear candidate needs this much
     reid_margin: float = 0.2  # ... and this much more than with any other occluded dancer's memory
+    reid_radius_growth: float = 0.03  # x box height per frame: the re-identification radius (``2 x
+    # min_search_radius`` box heights about the predicted and last clear positions) grows by this for each frame since
+    # the dancer was last seen clear, up to ``reid_radius_cap`` box heights: behind the dancers in front it may walk
+    # elsewhere than predicted, at up to about 0.9 of its height a second (a brisk walk) at 30 frames a second. Seed
+    # 2922 flamenco (session 71): a dancer walked 170 px left behind a large dancer in front while her prediction
+    # stood still; seen alone again, colours 1.00 of her memory, she was 150-170 px from it, outside the radius of
+    # 100, and stayed occluded for 37 frames (IDF1 0.897 -> 0.911). 0: a fixed radius
+    reid_radius_cap: float = 1.0  # ... x box height: the most the radius grows to
     reid_beside_held: bool = True  # a detection that overlaps tracked dancers may re-identify an occluded dancer
     # when each of them holds a detection of its own (:meth:`_reidentify`)
     reid_held_overlap: float = 0.5  # ... whose body core this one overlaps less than this (intersection / smaller)
@@ -2056,10 +2071,12 @@ class MultiDancerTracker(ReportedExtent):
 
     def _in_front_of_all(self, d: DancerTrack, overlapping: list[int]) -> bool:
         """With ``front_keeps_motion``, whether dancer ``d`` stands in front of every dancer it overlaps (indices
-        ``overlapping``, at least one): box bottom lower by ``pixel_front`` x the height."""
+        ``overlapping``, at least one): box bottom lower by ``pixel_front`` x the height, or (``waiting_counts_behind``)
+        that dancer waits hidden behind ``d`` since its start."""
         c = self.config
         return c.front_keeps_motion and bool(overlapping) and all(
-            stands_in_front(d.box, self.dancers[j].box, c.pixel_front) for j in overlapping)
+            stands_in_front(d.box, self.dancers[j].box, c.pixel_front)
+            or (c.waiting_counts_behind and self.dancers[j].hidden_behind == d.dancer_id) for j in overlapping)
 
     def _couple_in_hold(self, d: DancerTrack, overlapping: list[int]) -> bool:
         """Whether ``d`` and the dancers it overlaps (indices ``overlapping``) are a couple in hold
@@ -2445,7 +2462,8 @@ class MultiDancerTracker(ReportedExtent):
         """Occluded dancers that show clearly again take their place before the predicted end of the overlap.
 
         Candidates of each occluded dancer are its own tracker's box and the detections near its predicted or its
-        last clear position (within ``2 min_search_radius`` box heights) that no tracked dancer takes
+        last clear position (within :meth:`_reid_radius` box heights, growing with the frames since it was last
+        seen clear) that no tracked dancer takes
         (:meth:`_claims`), within ``reid_height_change`` of its box height (bottom made good behind a dancer in
         front), if clear of every tracked dancer's body core. A detection may also overlap tracked
         dancers that each hold a detection of their own in that assignment, if its body core overlaps the
@@ -2505,7 +2523,7 @@ class MultiDancerTracker(ReportedExtent):
 
         candidates = []
         for d, own in zip(occluded, own_boxes):
-            radius = c.min_search_radius * d.box[3] * 2
+            radius = d.box[3] * self._reid_radius(d)
             near = [det for det in free if min(np.linalg.norm(box_centre(det) - d.center),
                                                np.linalg.norm(box_centre(det) - box_centre(d.stored_box))) <= radius]
             boxes = [box for box in near if clear(box, True)]
@@ -2525,6 +2543,15 @@ class MultiDancerTracker(ReportedExtent):
             if holder is not None and holder.status == TRACKED:
                 holder.size_ratio = None  # perhaps learned from that detection
                 self._occlude(holder, [d])
+
+    def _reid_radius(self, d: DancerTrack) -> float:
+        """The re-identification radius of occluded dancer ``d``, in its box heights: ``2 x min_search_radius``,
+        grown by ``reid_radius_growth`` for each frame since it was last seen clear, up to ``reid_radius_cap``."""
+        c = self.config
+        base = 2 * c.min_search_radius
+        if c.reid_radius_growth <= 0:
+            return base
+        return min(max(base, c.reid_radius_cap), base + c.reid_radius_growth * (self.frame_index - d.stored_frame))
 
     def _around_a_pile(self, d: DancerTrack, box, cores: int | None = None) -> bool:
         """Whether ``box`` (x, y, w, h px) holds the body cores of ``cores`` (default ``reid_pile_cores``) or more
