@@ -670,17 +670,23 @@ def test_couple_in_hold_moving_together_is_not_a_dragged_tracker():
     assert dragged(clump)
 
 
+def _blue_and_red(seed: int, blue_box, red_box):
+    """A noisy background (random ``seed``) and a first frame on it with a blue dancer at ``blue_box`` (the one
+    followed) and a red one at ``red_box`` (the one that will be occluded): plain rectangles, boxes x, y, w, h px."""
+    background = np.random.default_rng(seed).integers(90, 160, (480, 640, 3), dtype=np.uint8)
+    first = background.copy()
+    for (x, y, w, h), colour in ((blue_box, (200, 40, 30)), (red_box, (30, 40, 210))):  # BGR
+        first[int(y):int(y + h), int(x):int(x + w)] = colour
+    return background, first
+
+
 def test_occluded_dancer_reidentified_beside_a_dancer_without_a_detection():
     """A detection beside a tracked dancer that holds no detection of its own (hidden behind someone else)
     re-identifies an occluded dancer when its colours match that dancer's memory clearly better than the tracked
     one's; a box much taller than the dancer's (YOLO's box around two figures) does not, nor one that matches the
     tracked dancer's memory about as well, nor does the option off."""
-    rng = np.random.default_rng(2)
-    background = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
     tracked_box, hidden_box = (200.0, 100.0, 60.0, 200.0), (420.0, 100.0, 60.0, 200.0)
-    first = background.copy()
-    first[100:300, 200:260] = (200, 40, 30)  # the tracked dancer: blue (BGR)
-    first[100:300, 420:480] = (30, 40, 210)  # the one that will be occluded: red
+    background, first = _blue_and_red(2, tracked_box, hidden_box)
     beside = (245.0, 100.0, 60.0, 200.0)  # its body core overlaps the tracked dancer's by a quarter
     later = background.copy()
     later[100:300, 245:305] = (30, 40, 210)
@@ -709,12 +715,8 @@ def test_the_reidentification_radius_grows_with_the_frames_since_the_dancer_was_
     it is taken farther from its prediction the longer it has been out of sight (``reid_radius_growth`` box heights a
     frame, up to ``reid_radius_cap``; hdvr synth seed 2922 flamenco: she walked 170 px behind a dancer in front
     while her prediction stood still, IDF1 0.897 -> 0.911), never beyond the cap, and not with the growth off."""
-    rng = np.random.default_rng(3)
-    background = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
     front_box, hidden_box = (40.0, 100.0, 60.0, 200.0), (420.0, 100.0, 60.0, 200.0)
-    first = background.copy()
-    first[100:300, 40:100] = (200, 40, 30)  # a dancer elsewhere: blue (BGR)
-    first[100:300, 420:480] = (30, 40, 210)  # the one that will be occluded: red
+    background, first = _blue_and_red(3, front_box, hidden_box)  # a dancer elsewhere, and the one to be occluded
 
     def reidentified(shift: float, frames_hidden: int, config=None) -> bool:
         tracker = MultiDancerTracker(first, [front_box, hidden_box], config)
