@@ -20,6 +20,8 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
     # score hindsight settings on the kept runs
     python3 scripts/hindsight_runs.py score --clips-dir CLIPS --runs RUNS [--set keypoint_reach=0.1 ...] \\
         [--per-clip-json F.json]
+    # where each dancer's box lies below IoU 0.5 with its truth (after hindsight, or --online)
+    python3 scripts/hindsight_runs.py stretches --clips-dir CLIPS --runs RUNS [--keys 2844_0,2922_3] [--online]
 
 CLIPS holds ``synth-SEED/clip_0000I`` folders as ``bench_track.py --clips-dir`` writes them (rendered here when
 missing); RUNS one ``SEED_INDEX.npz`` per clip (keys: boxes, status, keypoints, order, hidden_starts, width).
@@ -105,6 +107,34 @@ def score_run(run: dict, truth_boxes: np.ndarray, settings: HindsightSettings | 
     return {"dancers": int(truth_boxes.shape[1]), "idf1": strict.idf1, "id_switches": strict.id_switches,
             "hidden_starts": len(run["hidden_starts"]), "mota": strict.mota, "hota": strict.hota,
             "idf1_iou04": loose.idf1, "id_switches_iou04": loose.id_switches}
+
+
+def weak_stretches(boxes: np.ndarray, truth_boxes: np.ndarray, order, status, threshold: float = 0.5) -> list[dict]:
+    """Where each written dancer's box lies below IoU ``threshold`` with its own ground-truth box: the stretches of
+    frames a failing clip loses, to look at. ``boxes`` (T, N, 4) px written boxes, ``truth_boxes`` (T, N, 4) px
+    amodal truth (NaN where absent), ``order`` written id -> ground-truth index, ``status`` T tuples of N strings.
+    Returns dicts with keys dancer, truth, start, end (exclusive), median_iou, statuses (sorted) and on_truth (the
+    ground-truth index the box lies on at IoU >= ``threshold`` at the stretch's start, or None), by dancer and start."""
+    from hdvr.tracking.appearance import box_iou
+
+    out = []
+    for w, g in enumerate(order):
+        ious = np.array([box_iou(boxes[t, w], truth_boxes[t, g]) if np.isfinite(boxes[t, w]).all()
+                         and np.isfinite(truth_boxes[t, g]).all() else np.nan for t in range(len(boxes))])
+        weak = np.isfinite(truth_boxes[:, g]).all(axis=1) & ~(np.nan_to_num(ious, nan=0.0) >= threshold)
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], weak.astype(int), [0]])))
+        for start, end in zip(edges[::2], edges[1::2]):
+            on = None
+            if np.isfinite(boxes[start, w]).all():
+                others = [(box_iou(boxes[start, w], truth_boxes[start, h]), h) for h in range(truth_boxes.shape[1])
+                          if np.isfinite(truth_boxes[start, h]).all()]
+                best = max(others, default=(0.0, None))
+                on = best[1] if best[0] >= threshold else None
+            values = ious[start:end]
+            out.append({"dancer": w, "truth": int(g), "start": int(start), "end": int(end),
+                        "median_iou": float(np.median(np.nan_to_num(values, nan=0.0))),
+                        "statuses": sorted({status[t][w] for t in range(start, end)}), "on_truth": on})
+    return out
 
 
 def parse_settings(pairs: list[str]) -> HindsightSettings:
@@ -273,6 +303,26 @@ def score(args) -> int:
     return 0
 
 
+def stretches(args) -> int:
+    settings = None if args.online else parse_settings(args.set or [])
+    wanted = {k.strip() for k in args.keys.split(",") if k.strip()} if args.keys else None
+    for path, seed, index, clip in kept_runs(args.clips_dir, args.runs):
+        if wanted is not None and path.stem not in wanted:
+            continue
+        run = load_run(path)
+        truth_boxes, _ = _seen_truth(clip)
+        boxes = np.asarray(run["boxes"], float) if settings is None else apply_hindsight(
+            run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
+            hidden_starts=run["hidden_starts"], settings=settings, stopped_behind=run.get("stopped_behind"))[0]
+        scores = score_run(run, truth_boxes, settings)
+        print(f"{path.stem} {SYNTH_CLIPS[index][0]}: IDF1 {scores['idf1']:.3f}, {scores['id_switches']} switches")
+        for s in weak_stretches(boxes, truth_boxes, run["order"], run["status"]):
+            on = "" if s["on_truth"] is None else f", on truth dancer {s['on_truth']}"
+            print(f"  dancer {s['dancer']} (truth {s['truth']}) frames {s['start']}-{s['end'] - 1}: IoU "
+                  f"{s['median_iou']:.2f} ({'/'.join(s['statuses'])}{on})")
+    return 0
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -304,6 +354,14 @@ def main(argv=None) -> int:
     sc.add_argument("--set", action="append", metavar="NAME=VALUE", help="a HindsightSettings field (repeatable)")
     sc.add_argument("--per-clip-json", type=Path, help="write per-clip scores here (bench_track's format)")
     sc.set_defaults(func=score)
+    st = sub.add_parser("stretches", help="print where each dancer's box lies below IoU 0.5 with its truth, per "
+                                          "kept run (median IoU, statuses, the truth dancer it lies on)")
+    st.add_argument("--clips-dir", type=Path, required=True)
+    st.add_argument("--runs", type=Path, required=True)
+    st.add_argument("--keys", help="comma-separated SEED_INDEX runs (default: all kept)")
+    st.add_argument("--set", action="append", metavar="NAME=VALUE", help="a HindsightSettings field (repeatable)")
+    st.add_argument("--online", action="store_true", help="the online tracker's boxes, without hindsight")
+    st.set_defaults(func=stretches)
     args = parser.parse_args(argv)
     return args.func(args)
 

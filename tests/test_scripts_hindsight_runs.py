@@ -56,6 +56,31 @@ def test_a_kept_run_scores_with_hindsight_filling_the_occluded_stretch(tmp_path,
     assert evaluate_tracking(truth, run["boxes"]).idf1 < 1.0
 
 
+def test_the_stretches_where_a_box_lies_off_its_dancer_are_listed(tmp_path, capsys):
+    """``weak_stretches`` lists the frames where a written box lies below IoU 0.5 with its own dancer's truth: the
+    held box of the kept run falls behind from frame 6 (IoU 0.45, 0.33); hindsight fills the stretch and none is
+    left. The ``stretches`` command prints them per clip."""
+    script = load_script("hindsight_runs")
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    truth = _kept_run(runs)
+    _clip_with_truth(tmp_path / "clips", truth)
+    run = script.load_run(runs / "7_0.npz")
+    found = script.weak_stretches(run["boxes"], truth, run["order"], run["status"])
+    assert [(s["dancer"], s["truth"], s["start"], s["end"], s["statuses"], s["on_truth"]) for s in found] == \
+        [(1, 1, 6, 8, ["occluded"], None)]
+    assert found[0]["median_iou"] == pytest.approx((25 / 55 + 20 / 60) / 2)
+    # the truth's dancers swapped in the order: each box lies on the other's truth, wholly off its own
+    swapped = script.weak_stretches(run["boxes"], truth[:, ::-1], run["order"], run["status"])
+    assert [(s["dancer"], s["start"], s["end"], s["on_truth"]) for s in swapped] == [(0, 0, 12, 1), (1, 0, 12, 0)]
+    clips, runs_arg = ["--clips-dir", str(tmp_path / "clips")], ["--runs", str(runs)]
+    assert script.main(["stretches", *clips, *runs_arg, "--online"]) == 0
+    out = capsys.readouterr().out
+    assert "7_0 tango: IDF1" in out and "dancer 1 (truth 1) frames 6-7: IoU 0.39 (occluded)" in out
+    assert script.main(["stretches", *clips, *runs_arg, "--keys", "7_0"]) == 0
+    assert "frames" not in capsys.readouterr().out  # hindsight filled the stretch
+
+
 def test_settings_are_parsed_with_clear_errors():
     script = load_script("hindsight_runs")
     s = script.parse_settings(["keypoint_reach=0.1", "smooth_window=13"])
