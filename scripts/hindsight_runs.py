@@ -306,7 +306,11 @@ def score(args) -> int:
 def stretches(args) -> int:
     settings = None if args.online else parse_settings(args.set or [])
     wanted = {k.strip() for k in args.keys.split(",") if k.strip()} if args.keys else None
-    for path, seed, index, clip in kept_runs(args.clips_dir, args.runs):
+    kept = kept_runs(args.clips_dir, args.runs)
+    missing = sorted(wanted - {path.stem for path, *_ in kept}) if wanted else []
+    if missing:
+        raise SystemExit(f"hindsight_runs: no kept run for {', '.join(missing)} in {args.runs}")
+    for path, seed, index, clip in kept:
         if wanted is not None and path.stem not in wanted:
             continue
         run = load_run(path)

@@ -79,6 +79,8 @@ def test_the_stretches_where_a_box_lies_off_its_dancer_are_listed(tmp_path, caps
     assert "7_0 tango: IDF1" in out and "dancer 1 (truth 1) frames 6-7: IoU 0.39 (occluded)" in out
     assert script.main(["stretches", *clips, *runs_arg, "--keys", "7_0"]) == 0
     assert "frames" not in capsys.readouterr().out  # hindsight filled the stretch
+    with pytest.raises(SystemExit, match="no kept run for 8_1"):
+        script.main(["stretches", *clips, *runs_arg, "--keys", "7_0,8_1"])
 
 
 def test_settings_are_parsed_with_clear_errors():
