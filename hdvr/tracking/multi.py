@@ -201,7 +201,7 @@ class MultiTrackerConfig:
     # elsewhere than predicted, at up to about 0.9 of its height a second (a brisk walk) at 30 frames a second. Seed
     # 2922 flamenco (session 71): a dancer walked 170 px left behind a large dancer in front while her prediction
     # stood still; seen alone again, colours 1.00 of her memory, she was 150-170 px from it, outside the radius of
-    # 100, and stayed occluded for 37 frames (IDF1 0.897 -> 0.911); no other of 411 clips rendered again changed.
+    # 100, and stayed occluded for 37 frames (IDF1 0.897 -> 0.911); no other of 491 clips rendered again changed.
     # 0: a fixed radius
     reid_radius_cap: float = 1.0  # ... x box height: the most the radius grows to
     reid_beside_held: bool = True  # a detection that overlaps tracked dancers may re-identify an occluded dancer
