@@ -115,25 +115,21 @@ def weak_stretches(boxes: np.ndarray, truth_boxes: np.ndarray, order, status, th
     amodal truth (NaN where absent), ``order`` written id -> ground-truth index, ``status`` T tuples of N strings.
     Returns dicts with keys dancer, truth, start, end (exclusive), median_iou, statuses (sorted) and on_truth (the
     ground-truth index the box lies on at IoU >= ``threshold`` at the stretch's start, or None), by dancer and start."""
-    from hdvr.tracking.appearance import box_iou
+    from hdvr.tracking.evaluation import iou_matrix
 
+    # (T, N written, M truth) IoU, 0 where either box is absent (NaN)
+    ious = np.stack([iou_matrix(np.asarray(b, float), np.asarray(g, float)) for b, g in zip(boxes, truth_boxes)])
     out = []
     for w, g in enumerate(order):
-        ious = np.array([box_iou(boxes[t, w], truth_boxes[t, g]) if np.isfinite(boxes[t, w]).all()
-                         and np.isfinite(truth_boxes[t, g]).all() else np.nan for t in range(len(boxes))])
-        weak = np.isfinite(truth_boxes[:, g]).all(axis=1) & ~(np.nan_to_num(ious, nan=0.0) >= threshold)
+        own = ious[:, w, g]
+        weak = np.isfinite(truth_boxes[:, g]).all(axis=1) & (own < threshold)
         edges = np.flatnonzero(np.diff(np.concatenate([[0], weak.astype(int), [0]])))
         for start, end in zip(edges[::2], edges[1::2]):
-            on = None
-            if np.isfinite(boxes[start, w]).all():
-                others = [(box_iou(boxes[start, w], truth_boxes[start, h]), h) for h in range(truth_boxes.shape[1])
-                          if np.isfinite(truth_boxes[start, h]).all()]
-                best = max(others, default=(0.0, None))
-                on = best[1] if best[0] >= threshold else None
-            values = ious[start:end]
+            best = int(np.argmax(ious[start, w]))
             out.append({"dancer": w, "truth": int(g), "start": int(start), "end": int(end),
-                        "median_iou": float(np.median(np.nan_to_num(values, nan=0.0))),
-                        "statuses": sorted({status[t][w] for t in range(start, end)}), "on_truth": on})
+                        "median_iou": float(np.median(own[start:end])),
+                        "statuses": sorted({status[t][w] for t in range(start, end)}),
+                        "on_truth": best if ious[start, w, best] >= threshold else None})
     return out
 
 
