@@ -65,6 +65,8 @@ BEFORE_AFTER = (
     (2906, 3, "flamenco", 3, 45, "emerge_height_yield", "tracking_emerge_height_yield_s2906_flamenco_045.jpg"),
     (2844, 0, "tango", 2, 54, "waiting_counts_behind", "tracking_waiting_counts_behind_s2844_tango_054.jpg"),
     (2922, 3, "flamenco", 3, 81, "reid_radius_growth", "tracking_reid_radius_growth_s2922_flamenco_081.jpg"),
+    (2844, 4, "hip_hop", 4, 95, "emerge_past_unlike_occluded",
+     "tracking_emerge_past_unlike_occluded_s2844_hip_hop_095.jpg"),
 )
 #: (figures, seed, frame, picture name): a procedural crossing clip (``bench_track.py --sections identity``) where a
 #: figure that walked on behind another is held where it went behind without ``HindsightSettings.hold_min_cover``

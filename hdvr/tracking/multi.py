@@ -307,6 +307,11 @@ class MultiTrackerConfig:
     # walked away; the first, seen whole and detected for 90 frames, never came out because the second's box, still
     # at the start, lay on her). The dancer hiding this one still stands in the way when it waits itself (a stack of
     # three: seed 2507 flamenco, the dancer at the back took the middle one's detection, 0.967 -> 0.800)
+    emerge_past_unlike_occluded: bool = True  # ... nor does a dancer occluded (not waiting) whose memory the
+    # detection's colours match less than ``emerge_beside_similarity``: its box is a prediction from its velocity, and
+    # the person there is plainly not it. Session 72: hdvr synth seed 2844 hip-hop, the waiting dancer stepped out
+    # beside the one in front as he was predicted for four frames, and came out 15 frames later (0.887 -> 0.963);
+    # seed 2839 ballet needs it too (see docs/benchmarks.md "Session 72")
     emerge_front_first: bool = True  # a person coming out is offered first to the dancers waiting behind a dancer
     # followed, then to those waiting behind a dancer who waits too (a chain: that one is hidden by two, the first by
     # one); before, in the order of the dancers' numbers (hdvr synth G 2766 ballet: dancer 1, behind dancer 2 behind
@@ -2333,6 +2338,9 @@ class MultiDancerTracker(ReportedExtent):
                     if o is not d and o.status != OUT and not (
                         c.emerge_past_waiting and o.hidden_behind is not None
                         and o.dancer_id != d.hidden_behind and box_iou(det, o.box) < fit)]
+        if c.emerge_past_unlike_occluded:
+            overlaps = [(o, v) for o, v in overlaps
+                        if v <= c.overlap_threshold or not self._plainly_not(frame, o, k, det, histograms)]
         overlapped = [o for o, v in overlaps if v > c.overlap_threshold]
         half_beside = bool(overlapped) and max(v for _, v in overlaps) < c.emerge_beside_overlap
         own = bool(c.emerge_own_margin) and c.emerge_beside_persist and fit >= 0.5 and front_now is not None
@@ -2360,6 +2368,17 @@ class MultiDancerTracker(ReportedExtent):
             if count < c.emerge_beside_persist:
                 return None
         return hist
+
+    def _plainly_not(self, frame, o: DancerTrack, k: int, det, histograms: dict) -> bool:
+        """Whether dancer ``o``, occluded and not waiting (its box a prediction), plainly is not the person of
+        detection ``det`` (index ``k``; x, y, w, h px): the detection's colours match its memory less than
+        ``emerge_beside_similarity``. ``histograms``: detection index -> histogram, shared."""
+        if o.status != OCCLUDED or o.hidden_behind is not None or o.stored_histogram is None:
+            return False
+        if k not in histograms:
+            histograms[k] = self._histogram(frame, det)
+        return histograms[k] is not None and \
+            histogram_similarity(histograms[k], o.stored_histogram) < self.config.emerge_beside_similarity
 
     def _front_leaves(self, frame, d: DancerTrack, front: DancerTrack, dets: list, k_held: int, taken: set,
                       histograms: dict, like_front_min: float) -> bool:
