@@ -138,6 +138,11 @@ MIN_SEEN_AFTER = 3
 #: 0.4, 0.5 and 0.6 gave the same 5 of 72 procedural crossings failing, 17 without; on hdvr synth sets D, F, G, H
 #: 0.5 moved one clip, 0.6 two: docs/benchmarks.md "session 59")
 HOLD_MIN_COVER = 0.5
+#: the share of the box last seen in a held stretch, the rest the online prediction (:func:`hold_last_seen`; session
+#: 72, on 497 hdvr synth clips tracked with session 72's tracker: 1.0 (held, sessions 33-71) 22 failing, 0.75 21 with
+#: no clip newly failing (D 2714 ballet 0.840 -> 0.981), 0.5 and 0.25 21 with one newly failing; docs/benchmarks.md
+#: "session 72")
+HOLD_WEIGHT = 0.75
 #: how far a dancer's body reaches beyond its outermost keypoint, in box heights (:func:`enclose_keypoints`). Measured
 #: (``scripts/measure_keypoint_reach.py``): on dancers of hdvr synth clips seen whole, the ground-truth box's sides lie
 #: beyond YOLO11n-pose's outermost keypoints by a median 0.08 of its height (quartiles 0.07 and 0.11; 10,739
@@ -577,7 +582,7 @@ class HindsightSettings:
     hidden_fill_weight: float = HIDDEN_FILL_WEIGHT
     hidden_walk_frames: int = HIDDEN_WALK_FRAMES
     start_place_weight: float = START_PLACE_WEIGHT
-    hold_weight: float = 1.0
+    hold_weight: float = HOLD_WEIGHT
     keep_stopped: bool = True
     hold_min_cover: float = HOLD_MIN_COVER
     amodal_boxes: bool = True
