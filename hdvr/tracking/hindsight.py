@@ -268,9 +268,10 @@ def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float 
     """Hold the box where each dancer was last seen through each ``occluded`` stretch that starts right after a frame
     it was seen (``tracked``) and that :func:`fill_occluded` did not fill (``filled``, its (T, N) mask); module
     docstring. ``boxes`` (T, N, 4) px, NaN where absent or out (those frames stay so). ``weight``: the held box is
-    ``weight`` x the box last seen + (1 - ``weight``) x the online prediction of that frame (1: held; measured lower in
-    session 56: docs/benchmarks.md). ``stopped``: optional (T, N) bool, the frames in which the online tracker had
-    stopped the dancer's predicted box behind the dancers in front (``TrackRun.stopped_behind``); a stretch with any
+    ``weight`` x the box last seen + (1 - ``weight``) x the online prediction of that frame (1: held;
+    :func:`apply_hindsight` gives ``HOLD_WEIGHT``, 0.75, since session 72: docs/benchmarks.md). ``stopped``: optional
+    (T, N) bool, the frames in which the online tracker had stopped the dancer's predicted box behind the dancers in
+    front (``TrackRun.stopped_behind``); a stretch with any
     such frame keeps its online boxes (they ran on only while hidden). ``min_cover``: so does a stretch in any frame
     of which less than this fraction of the body core of the box last seen lies inside the body cores of the other
     dancers seen (``tracked``) then (:func:`covered_fraction`): that place lay open to view, so the dancer was not
