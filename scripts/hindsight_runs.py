@@ -95,13 +95,22 @@ def load_run(path: Path) -> dict:
     return run
 
 
-def score_run(run: dict, truth_boxes: np.ndarray, settings: HindsightSettings | None) -> dict:
+def written_boxes(run: dict, settings: HindsightSettings | None) -> np.ndarray:
+    """The (T, N, 4) px boxes a kept run (:func:`load_run`) writes after hindsight with ``settings`` (None: the
+    online tracker's boxes as they are), in its written order."""
+    if settings is None:
+        return np.asarray(run["boxes"], float)
+    return apply_hindsight(run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
+                           hidden_starts=run["hidden_starts"], settings=settings,
+                           stopped_behind=run.get("stopped_behind"))[0]
+
+
+def score_run(run: dict, truth_boxes: np.ndarray, settings: HindsightSettings | None,
+              boxes: np.ndarray | None = None) -> dict:
     """IDF1, switches, MOTA and HOTA at IoU 0.5 and IDF1 and switches at IoU 0.4 of a kept run (:func:`load_run`)
     after hindsight with ``settings`` (None: the online tracker's boxes as they are), against (T, N, 4) px
-    ground-truth boxes."""
-    boxes = np.asarray(run["boxes"], float) if settings is None else apply_hindsight(
-        run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
-        hidden_starts=run["hidden_starts"], settings=settings, stopped_behind=run.get("stopped_behind"))[0]
+    ground-truth boxes. ``boxes``: :func:`written_boxes` of the run and settings, if computed already."""
+    boxes = written_boxes(run, settings) if boxes is None else boxes
     tracked = boxes[:, np.argsort(run["order"])]
     strict, loose = evaluate_tracking(truth_boxes, tracked), evaluate_tracking(truth_boxes, tracked, iou_threshold=0.4)
     return {"dancers": int(truth_boxes.shape[1]), "idf1": strict.idf1, "id_switches": strict.id_switches,
@@ -311,10 +320,8 @@ def stretches(args) -> int:
             continue
         run = load_run(path)
         truth_boxes, _ = _seen_truth(clip)
-        boxes = np.asarray(run["boxes"], float) if settings is None else apply_hindsight(
-            run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
-            hidden_starts=run["hidden_starts"], settings=settings, stopped_behind=run.get("stopped_behind"))[0]
-        scores = score_run(run, truth_boxes, settings)
+        boxes = written_boxes(run, settings)
+        scores = score_run(run, truth_boxes, settings, boxes)
         print(f"{path.stem} {SYNTH_CLIPS[index][0]}: IDF1 {scores['idf1']:.3f}, {scores['id_switches']} switches")
         for s in weak_stretches(boxes, truth_boxes, run["order"], run["status"]):
             on = "" if s["on_truth"] is None else f", on truth dancer {s['on_truth']}"

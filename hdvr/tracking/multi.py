@@ -1414,10 +1414,7 @@ class MultiDancerTracker(ReportedExtent):
         options = []
         for d, boxes in candidates:
             for box in boxes:
-                key = tuple(float(v) for v in box)
-                if key not in histograms:
-                    histograms[key] = self._histogram(frame, box)
-                hist = histograms[key]
+                hist = self._cached_histogram(frame, histograms, tuple(float(v) for v in box), box)
                 score = histogram_similarity(hist, d.stored_histogram)
                 if score >= c.reid_similarity:
                     options.append((score, d.dancer_id, box, hist))
@@ -2312,10 +2309,7 @@ class MultiDancerTracker(ReportedExtent):
         c = self.config
         unlike_front, front_now = c.reid_similarity, None
         if c.emerge_relative and front.status == TRACKED:
-            key = (front.dancer_id, tuple(front.box))
-            if key not in front_histograms:
-                front_histograms[key] = self._histogram(frame, front.box)
-            front_hist = front_histograms[key]
+            front_hist = self._cached_histogram(frame, front_histograms, (front.dancer_id, tuple(front.box)), front.box)
             if front_hist is not None:
                 front_now = histogram_similarity(front_hist, front.stored_histogram)
                 unlike_front = max(unlike_front, front_now - c.reid_margin)
@@ -2346,9 +2340,7 @@ class MultiDancerTracker(ReportedExtent):
         own = bool(c.emerge_own_margin) and c.emerge_beside_persist and fit >= 0.5 and front_now is not None
         if overlapped and not own and (not c.emerge_beside_persist or not half_beside):
             return None
-        if k not in histograms:
-            histograms[k] = self._histogram(frame, det)
-        hist = histograms[k]
+        hist = self._cached_histogram(frame, histograms, k, det)
         if hist is None:
             return None
         like_front = histogram_similarity(hist, front.stored_histogram)
@@ -2369,16 +2361,22 @@ class MultiDancerTracker(ReportedExtent):
                 return None
         return hist
 
+    def _cached_histogram(self, frame, histograms: dict, key, box):
+        """The colour histogram of ``box`` (x, y, w, h px) in ``frame`` (:meth:`_histogram`; None where it cannot be
+        told), kept in ``histograms`` under ``key`` (a detection index or a box tuple) and computed only once."""
+        if key not in histograms:
+            histograms[key] = self._histogram(frame, box)
+        return histograms[key]
+
     def _plainly_not(self, frame, o: DancerTrack, k: int, det, histograms: dict) -> bool:
         """Whether dancer ``o``, occluded and not waiting (its box a prediction), plainly is not the person of
         detection ``det`` (index ``k``; x, y, w, h px): the detection's colours match its memory less than
         ``emerge_beside_similarity``. ``histograms``: detection index -> histogram, shared."""
         if o.status != OCCLUDED or o.hidden_behind is not None or o.stored_histogram is None:
             return False
-        if k not in histograms:
-            histograms[k] = self._histogram(frame, det)
-        return histograms[k] is not None and \
-            histogram_similarity(histograms[k], o.stored_histogram) < self.config.emerge_beside_similarity
+        hist = self._cached_histogram(frame, histograms, k, det)
+        return hist is not None and \
+            histogram_similarity(hist, o.stored_histogram) < self.config.emerge_beside_similarity
 
     def _front_leaves(self, frame, d: DancerTrack, front: DancerTrack, dets: list, k_held: int, taken: set,
                       histograms: dict, like_front_min: float) -> bool:
@@ -2404,10 +2402,8 @@ class MultiDancerTracker(ReportedExtent):
                     self._bodies_overlap(det, o.box) > c.overlap_threshold
                     for o in self.dancers if o is not front and o.status != OUT):
                 continue  # beside the waiting dancer and everyone else (his own box may still lie on her)
-            if k not in histograms:
-                histograms[k] = self._histogram(frame, det)
-            like_front = histogram_similarity(histograms[k], front.stored_histogram) \
-                if histograms[k] is not None else -np.inf
+            hist = self._cached_histogram(frame, histograms, k, det)
+            like_front = histogram_similarity(hist, front.stored_histogram) if hist is not None else -np.inf
             if like_front < like_front_min:
                 continue
             if best is None or gain > best[1]:
@@ -2420,9 +2416,8 @@ class MultiDancerTracker(ReportedExtent):
         if d.status != TRACKED:  # as :meth:`_emerge` places a dancer coming out
             self._take(d, held, 1.0)
             d.tracker.init(frame, self._core(d.box))
-        if k_held not in histograms:
-            histograms[k_held] = self._histogram(frame, held)
-        own = histograms[k_held] if histograms[k_held] is not None else self._histogram(frame, d.box)
+        own = self._cached_histogram(frame, histograms, k_held, held)
+        own = own if own is not None else self._histogram(frame, d.box)
         if own is not None:
             d.stored_histogram = own
         d.hidden_behind = None
