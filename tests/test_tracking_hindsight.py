@@ -452,7 +452,7 @@ def test_start_feet_are_the_bottoms_of_both_boxes_at_the_start():
 def test_a_waiting_dancer_s_feet_stay_near_where_the_front_dancer_s_feet_put_them():
     """On its hidden frames a waiting dancer's box moves up or down only as far as needed to bring its bottom
     within ``tolerance`` x its height (100 px here) of its start bottom moved by the front dancer's: a box that slid
-    60 px down ends 25 px below, one 10 px off is left alone, and when the front dancer walks 30 px down the image
+    60 px down ends 25 px below with 0.25 (20 px with the default, 0.2), one 10 px off is left alone, and when the front dancer walks 30 px down the image
     (towards the camera) the dancer behind is expected 30 px lower too. Frames seen, the front dancer and the box's
     size and sideways place are not changed; an infinite tolerance changes nothing."""
     boxes, status = _stack()
@@ -476,6 +476,10 @@ def test_a_waiting_dancer_s_feet_stay_near_where_the_front_dancer_s_feet_put_the
     np.testing.assert_array_equal(kept[..., [0, 2, 3]], slid[..., [0, 2, 3]])
     np.testing.assert_array_equal(keep_feet_behind_front(slid, status, feet, tolerance=np.inf), slid)
     np.testing.assert_array_equal(keep_feet_behind_front(slid, status, {}), slid)
+    # the default, HIDDEN_FEET_TOLERANCE (0.2 since session 73; 0.25 before): 20 px
+    default = keep_feet_behind_front(slid, status, feet)
+    np.testing.assert_allclose(default[2:5, 1, 1] + default[2:5, 1, 3], expected[2:5] + 20.0)
+    assert HIDDEN_FEET_TOLERANCE == 0.2
     with pytest.raises(ValueError, match="tolerance"):
         keep_feet_behind_front(slid, status, feet, tolerance=-0.1)
 
