@@ -451,10 +451,11 @@ def test_start_feet_are_the_bottoms_of_both_boxes_at_the_start():
 
 def test_a_waiting_dancer_s_feet_stay_near_where_the_front_dancer_s_feet_put_them():
     """On its hidden frames a waiting dancer's box moves up or down only as far as needed to bring its bottom
-    within ``tolerance`` x its height (100 px here) of its start bottom moved by the front dancer's: a box that slid
-    60 px down ends 25 px below with 0.25 (20 px with the default, 0.2), one 10 px off is left alone, and when the front dancer walks 30 px down the image
-    (towards the camera) the dancer behind is expected 30 px lower too. Frames seen, the front dancer and the box's
-    size and sideways place are not changed; an infinite tolerance changes nothing."""
+    within ``tolerance`` x its height (100 px here) of its start bottom moved by the front dancer's: with 0.25 a box
+    that slid 60 px down ends 25 px below (20 px with the default, 0.2), one 10 px off is left alone, and when the
+    front dancer walks 30 px down the image (towards the camera) the dancer behind is expected 30 px lower too.
+    Frames seen, the front dancer and the box's size and sideways place are not changed; an infinite tolerance
+    changes nothing."""
     boxes, status = _stack()
     feet = start_feet(boxes, [(0, 1, 0)])
     start_bottom = boxes[0, 1, 1] + boxes[0, 1, 3]
