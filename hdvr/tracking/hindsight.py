@@ -273,11 +273,11 @@ def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float 
     ``weight`` x the box last seen + (1 - ``weight``) x the online prediction of that frame (1: held;
     :func:`apply_hindsight` gives ``HOLD_WEIGHT``, 0.75, since session 72: docs/benchmarks.md). ``stopped``: optional
     (T, N) bool, the frames in which the online tracker had stopped the dancer's predicted box behind the dancers in
-    front (``TrackRun.stopped_behind``); a stretch with any
-    such frame keeps its online boxes (they ran on only while hidden). ``min_cover``: so does a stretch in any frame
-    of which less than this fraction of the body core of the box last seen lies inside the body cores of the other
-    dancers seen (``tracked``) then (:func:`covered_fraction`): that place lay open to view, so the dancer was not
-    there; 0: off. Returns the new boxes and a (T, N) bool mask of the frames held. The input is not changed."""
+    front (``TrackRun.stopped_behind``); a stretch with any such frame keeps its online boxes (they ran on only while
+    hidden). ``min_cover``: so does a stretch in any frame of which less than this fraction of the body core of the
+    box last seen lies inside the body cores of the other dancers seen (``tracked``) then (:func:`covered_fraction`):
+    that place lay open to view, so the dancer was not there; 0: off. Returns the new boxes and a (T, N) bool mask of
+    the frames held. The input is not changed."""
     boxes, status = _checked(boxes, status)
     filled = np.asarray(filled, bool)
     if filled.shape != boxes.shape[:2]:
