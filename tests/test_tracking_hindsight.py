@@ -8,7 +8,8 @@ from hdvr.tracking.hindsight import (HIDDEN_FEET_TOLERANCE, HIDDEN_FILL_WEIGHT, 
                                      START_OFFSET_WEIGHT, START_PLACE_WEIGHT, HindsightSettings, apply_hindsight,
                                      enclose_keypoints, fill_hidden_until_seen, fill_occluded, hold_last_seen,
                                      interpolate_boxes, keep_feet_behind_front, keep_start_offset, keep_start_place,
-                                     occluded_stretches, smooth_boxes, start_feet, start_offsets, trim_above_pose)
+                                     occluded_stretches, scale_with_depth, smooth_boxes, start_feet, start_offsets,
+                                     trim_above_pose)
 
 
 def _walk(frames: int, speed: float = 4.0) -> np.ndarray:
@@ -643,3 +644,69 @@ def test_a_dancer_hidden_again_from_a_later_start_keeps_the_offset_of_that_start
     gap = centre(full[:, 1]) - centre(full[:, 0])
     np.testing.assert_allclose(gap[:later], offsets[(1, 0)][1] * boxes[:later, 1, 3])
     np.testing.assert_allclose(gap[later:], offsets[(1, later)][1] * boxes[later:, 1, 3])
+
+
+def _couple_coming_nearer(frames: int = 40) -> tuple[np.ndarray, list[tuple[str, str]], np.ndarray]:
+    """A couple walking from 7 m to 4.5 m in front of a level pinhole camera (focal 500 px, 1.4 m high, horizon at
+    row 180 px): dancer 0 (1.8 m) in front, dancer 1 (1.6 m) 0.4 m behind him, hidden all along. Returns the boxes as a
+    tracker has them (hers keep her start size while her feet follow his down the image, as
+    :func:`keep_feet_behind_front` leaves them), the status and her true boxes."""
+    def box(depth, stature):
+        height, bottom = 500.0 * stature / depth, 180.0 + 500.0 * 1.4 / depth
+        return np.array([300.0 - 0.2 * height, bottom - height, 0.4 * height, height])
+
+    depths = np.linspace(7.0, 4.5, frames)
+    front = np.stack([box(z, 1.8) for z in depths])
+    truth = np.stack([box(z + 0.4, 1.6) for z in depths])
+    tracked = truth.copy()
+    tracked[:, 2:] = truth[0, 2:]  # her start size
+    tracked[:, 0] = truth[:, 0] + (truth[:, 2] - truth[0, 2]) / 2  # her centre
+    tracked[:, 1] = truth[:, 1] + truth[:, 3] - truth[0, 3]  # her feet
+    return np.stack([front, tracked], axis=1), [("tracked", "hidden")] * frames, truth
+
+
+def test_a_waiting_dancer_s_box_grows_as_her_feet_come_down_the_image():
+    """With the horizon at row 180 px her box is given her start height times :func:`depth_scale` of her bottom:
+    her true size, as the couple comes nearer; bottom and centre kept, width scaled alike. Limits clip the scale; a
+    horizon at ``-inf``, the dancer in front and frames seen are not changed."""
+    boxes, status, truth = _couple_coming_nearer()
+    feet = start_feet(boxes, [(0, 1, 0)])
+    scaled = scale_with_depth(boxes, status, feet, 180.0)
+    np.testing.assert_allclose(scaled[:, 1, 3], truth[:, 3], rtol=1e-9)
+    np.testing.assert_allclose(scaled[:, 1, 2], truth[:, 2], rtol=1e-9)
+    np.testing.assert_allclose(scaled[:, 1, 1] + scaled[:, 1, 3], boxes[:, 1, 1] + boxes[:, 1, 3])
+    np.testing.assert_allclose(scaled[:, 1, 0] + scaled[:, 1, 2] / 2, boxes[:, 1, 0] + boxes[:, 1, 2] / 2)
+    np.testing.assert_array_equal(scaled[:, 0], boxes[:, 0])
+    assert truth[-1, 3] / truth[0, 3] > 1.4  # a real change of size
+    clipped = scale_with_depth(boxes, status, feet, 180.0, limits=(0.9, 1.1))
+    assert clipped[:, 1, 3].max() == pytest.approx(1.1 * boxes[0, 1, 3])
+    np.testing.assert_array_equal(scale_with_depth(boxes, status, feet, -np.inf), boxes)
+    seen = [("tracked", "tracked")] * len(boxes)
+    np.testing.assert_array_equal(scale_with_depth(boxes, seen, feet, 180.0), boxes)
+    # her start box against the horizon gives 1.6 / 1.4 px of height per px of feet below it; dancers seen with a
+    # ratio within 1.5 times that let her be scaled, others (the horizon and her start disagree) leave her as she is
+    np.testing.assert_array_equal(scale_with_depth(boxes, status, feet, 180.0, seen_ratio=1.8 / 1.4), scaled)
+    np.testing.assert_array_equal(scale_with_depth(boxes, status, feet, 180.0, seen_ratio=1.6 / 1.4 * 1.6), boxes)
+    np.testing.assert_array_equal(scale_with_depth(boxes, status, feet, 180.0, seen_ratio=1.6 / 1.4 / 1.6), boxes)
+    np.testing.assert_array_equal(scale_with_depth(boxes, status, feet, 180.0, seen_ratio=1.6 / 1.4 * 1.6,
+                                                   stature_factor=1.7), scaled)
+    with pytest.raises(ValueError, match="limits"):
+        scale_with_depth(boxes, status, feet, 180.0, limits=(1.2, 1.6))
+    with pytest.raises(ValueError, match="stature_factor"):
+        scale_with_depth(boxes, status, feet, 180.0, stature_factor=0.5)
+    with pytest.raises(ValueError, match="start_boxes"):
+        scale_with_depth(boxes, status, feet, 180.0, start_boxes=boxes[:3])
+
+
+def test_apply_hindsight_scales_a_waiting_dancer_with_the_horizon_the_seen_dancers_show():
+    """``apply_hindsight`` fits the horizon to the dancer seen walking nearer and scales the waiting dancer's box
+    with it (``HindsightSettings.scale_with_depth``, on by default): her boxes come far nearer her true size."""
+    boxes, status, truth = _couple_coming_nearer()
+    keypoints = np.full(boxes.shape[:2] + (25, 3), np.nan)
+    keypoints[..., 2] = 0
+    off = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
+                          settings=HindsightSettings(scale_with_depth=False))[0]
+    scaled = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)])[0]
+    error_off, error = np.abs(off[:, 1, 3] - truth[:, 3]), np.abs(scaled[:, 1, 3] - truth[:, 3])
+    assert error_off.max() > 30.0 and error.max() < 0.1 * error_off.max()
+    np.testing.assert_array_equal(scaled[:, 0], off[:, 0])
