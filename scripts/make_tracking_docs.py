@@ -10,7 +10,9 @@ hindsight (right), for those of ``KEYPOINT_REACH`` one with the boxes filled and
 the dancers' keypoints before the smoothing (right), for those of ``HEAD_REACH`` one with the boxes widened
 (left) and lowered to a full pose's head (right), and for those of ``START_OFFSET`` one with the boxes before
 (left) and after (right) a dancer waiting hidden behind another is moved towards her start offset, as written, for
-those of ``AMODAL`` one with the boxes written without (left) and with (right) the learned whole-body refiner, and
+those of ``AMODAL`` one with the boxes written without (left) and with (right) the learned whole-body refiner, for
+those of ``DEPTH`` one with the boxes written without (left) and with (right) a waiting dancer's box scaled with her
+feet against the horizon (``HindsightSettings.scale_with_depth``), and
 for those of ``CORRECTION`` one with the boxes as tracked (left) and after the first correction of the simulated user
 of ``scripts/bench_corrections.py`` (right), at the frame after it where the corrected dancer's box gains most, and
 for those of ``PROCEDURAL_HOLD`` a procedural crossing clip of ``bench_track.py --sections identity`` with a figure
@@ -117,6 +119,12 @@ START_OFFSET = (
 #: boxes to their whole body (a clip of seeds 2681-2700, which it was not trained on)
 AMODAL = (
     (2694, 5, "ballet", 4, 54, "tracking_amodal_boxes_s2694_ballet_054.jpg"),
+)
+#: (seed, clip index, genre, dancers, frame, picture name): a frame where a couple has come nearer the camera and
+#: the dancer hidden behind the front one all along is scaled with her feet (``scale_with_depth``; session 74, a clip
+#: of the fresh set of seeds 2941-2965)
+DEPTH = (
+    (2960, 0, "tango", 2, 64, "tracking_depth_scale_s2960_tango_064.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame where a dancer in plain view that the whole
 #: frame's detection misses (a leg kicked high) gets its pose from a crop about it (``zoom_unposed``; session 53)
@@ -280,14 +288,15 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
-                                           "amodal", "unposed", "correction", "timeline", "evaluation",
+                                           "amodal", "depth", "unposed", "correction", "timeline", "evaluation",
                                            "procedural-hold", "procedural-trim", "procedural-lost",
                                            "procedural-vertical", "procedural-vertical-cap"),
                         default=None,
                         help="write only the limit pictures, the before/after ones, the hindsight ones, the ones "
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
                              "the ones of a hidden dancer moved towards her start offset, the one of the learned "
-                             "whole-body (amodal) boxes, the one of a dancer's pose found zoomed in, the one of a "
+                             "whole-body (amodal) boxes, the one of a waiting dancer scaled with her feet, the one "
+                             "of a dancer's pose found zoomed in, the one of a "
                              "correction, or "
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
                              "picture of hdvr evaluate tracks --plot, or the procedural crossing held and not held, or "
@@ -366,6 +375,21 @@ def main(argv=None) -> int:
             _write_two_runs(path, video, detector, frame_index, gt, tracked,
                             ("--no-amodal-boxes", "whole-body boxes (as written)"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the amodal refiner",
+                  file=sys.stderr)
+        for seed, index, genre, n, frame_index, name in DEPTH if args.only in (None, "depth") else ():
+            from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
+
+            gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
+            run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
+                              write=False, hindsight=False)
+            tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
+                                       hidden_starts=run.hidden_starts, stopped_behind=run.stopped_behind,
+                                       settings=HindsightSettings(scale_with_depth=scaled))[0][:, np.argsort(order)]
+                       for scaled in (False, True)]
+            path = args.out / name
+            _write_two_runs(path, video, detector, frame_index, gt, tracked,
+                            ("her start size (scale_with_depth off)", "scaled with her feet (as written)"))
+            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with scale_with_depth",
                   file=sys.stderr)
         for seed, index, genre, n, frame_index, name in UNPOSED if args.only in (None, "unposed") else ():
             gt, starts, order, video = _render_case(tmp, seed, index, genre, n)

@@ -91,7 +91,8 @@ her start height times the ratio of her feet's distances below the horizon now a
 alike, its bottom and centre kept; unless her start box against that horizon makes her more than 1.5 times taller or
 shorter than the dancers seen (the horizon was fitted to a jittering box bottom). Session 74: 497 hdvr synth clips
 failing 21 -> 20 (10 up, 1 down; seed 2809 tango 0.833 -> 0.988), 150 fresh clips 9 -> 6 (2960 tango 0.708 ->
-0.988, 2963 swing 0.842 -> 1.000), 150 more 4 -> 4 (docs/benchmarks.md "Session 74").
+0.988, 2963 swing 0.842 -> 1.000), two more sets of 150 held out 4 -> 4 and 2 -> 2 (6 up, 1 down; docs/benchmarks.md
+"Session 74").
 
 :func:`fill_hidden_until_seen`: once a dancer that waited hidden behind another since its start is seen (status
 ``tracked`` right after the wait), the boxes of its last ``walk_frames`` (30) frames, as the steps above left them,
@@ -194,12 +195,12 @@ START_OFFSET_WEIGHT = 0.25
 #: 21 failing as with 0.25; 0.15 the same counts; 0.1 and 0.35 23 failing (docs/benchmarks.md "session 73")
 HIDDEN_FEET_TOLERANCE = 0.2
 #: the least and most a waiting dancer's box is scaled from its start size as its feet move down or up the image
-#: (:func:`scale_with_depth`): a couple coming twice as near or going twice as far is more than a dance clip shows
+#: (:func:`scale_with_depth`): a guard against a wrong horizon, wider than a 4 s dance clip's changes of depth
 DEPTH_SCALE_LIMITS = (0.6, 1.6)
 #: how many times taller or shorter than the dancers seen a waiting dancer's start box may make her, against the
 #: horizon, for her box to be scaled (:func:`scale_with_depth`): a horizon fitted just above the feet of a dancer whose
-#: box bottom jitters puts a waiting dancer's feet a few px below it, a giant (hdvr synth seed 2982 flamenco: 8.6 x the
-#: ratio of the dancer seen, IDF1 0.944 -> 0.836 without the check; 1.3 and 1.5 gave the same on 797 clips)
+#: box bottom jitters puts a waiting dancer's feet a few px below it, a giant (hdvr synth seed 2982 flamenco: 4.2 x the
+#: ratios of the dancers seen, IDF1 0.944 -> 0.836 without the check; 1.3 and 1.5 gave the same on 797 clips)
 DEPTH_STATURE_FACTOR = 1.5
 #: how far a waiting dancer's boxes move towards the straight line from its start box to where it was first seen
 #: (:func:`fill_hidden_until_seen`; 1: onto it, 0: not at all)
