@@ -1,7 +1,7 @@
 """Hindsight once a whole video is tracked: occluded stretches filled (or held where the dancer was last seen),
 boxes widened to their keypoints (and lowered where they reach far above a full pose), boxes smoothed over time, and
 the box of a dancer waiting hidden behind another kept partly at its start offset from that dancer, its feet near
-where the front dancer's say they are.
+where the front dancer's say they are and its size following its feet.
 
 Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so ten offline steps can use the
 frames after each one, as offline multi-object trackers do (ByteTrack's and StrongSORT's linear interpolation of the
@@ -529,8 +529,8 @@ def scale_with_depth(boxes: np.ndarray, status, feet: dict[tuple[int, int], tupl
     start bottom for the horizon row ``horizon`` px (:func:`hdvr.tracking.ground.fit_horizon`), clipped to
     ``limits``; its width scaled alike, its bottom and centre kept. A couple that comes nearer the camera brings the
     dancer hidden behind nearer too, and :func:`keep_feet_behind_front` has moved her feet down with his, while her
-    own tracker kept the size she had at the start (module docstring). ``seen_ratio``: the dancers seen's box height
-    per px of feet below the horizon (:func:`hdvr.tracking.ground.height_ratio`); a waiting dancer whose start box
+    own tracker kept the size she had at the start (module docstring). ``seen_ratio``: the box height per px of feet
+    below the horizon of the dancers seen (:func:`hdvr.tracking.ground.height_ratio`); a waiting dancer whose start box
     gives a ratio more than ``stature_factor`` times larger or smaller is left as it is (the horizon and her start
     disagree); NaN: no such check. A horizon at ``-inf`` and frames whose bottom lies above the horizon change
     nothing; the input is not changed."""
@@ -554,7 +554,8 @@ def scale_with_depth(boxes: np.ndarray, status, feet: dict[tuple[int, int], tupl
         own = boxes[frames, dancer]
         bottom = own[:, 1] + own[:, 3]
         scale = np.clip(depth_scale(bottom, own_bottom, horizon), *limits)
-        frames, own, bottom, scale = (a[np.isfinite(scale) & (own[:, 3] > 0)] for a in (frames, own, bottom, scale))
+        keep = np.isfinite(scale) & (own[:, 3] > 0)
+        frames, own, bottom, scale = frames[keep], own[keep], bottom[keep], scale[keep]
         height = start_boxes[first, dancer, 3] * scale
         width = own[:, 2] * height / own[:, 3]
         out[frames, dancer] = np.stack([own[:, 0] + (own[:, 2] - width) / 2, bottom - height, width, height], axis=1)
