@@ -144,6 +144,12 @@ STEP_PICTURES = (
     ("start-offset", START_OFFSET, slice(2, 4), ("before the start offset", "towards the start offset (as written)"),
      "start offset"),
 )
+#: (--only value, cases, the HindsightSettings field drawn off (left) and on (right), their titles, what it is)
+HINDSIGHT_SETTING_PICTURES = (
+    ("amodal", AMODAL, "amodal_boxes", ("--no-amodal-boxes", "whole-body boxes (as written)"), "the amodal refiner"),
+    ("depth", DEPTH, "scale_with_depth",
+     ("her start size (scale_with_depth off)", "scaled with her feet (as written)"), "scale_with_depth"),
+)
 COLOURS = [(0, 0, 255), (0, 190, 0), (255, 60, 0), (0, 200, 220)]  # BGR
 
 
@@ -237,6 +243,23 @@ def _hindsight_steps_case(tmp: Path, detector, seed: int, index: int, genre: str
     written = keep_start_offset(lowered, run.status, start_offsets(run.boxes, run.hidden_starts))  # the last step
     steps = [smooth_boxes(filled, run.status), smooth_boxes(widened, run.status), lowered, written]
     return gt, [b[:, np.argsort(order)] for b in steps], video
+
+
+def _write_hindsight_setting(path: Path, tmp: Path, detector, case, field: str, frame_index: int, titles) -> None:
+    """JPEG ``path``: frame ``frame_index`` of ``case`` ((seed, clip index, genre, dancers)), tracked once as the
+    benchmark does, its boxes written by hindsight with the boolean ``HindsightSettings`` field ``field`` off (left)
+    and on (right), under ``titles``."""
+    from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
+    from hdvr.tracking.pipeline import track_video
+
+    gt, starts, order, video = _render_case(tmp, *case)
+    run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
+                      write=False, hindsight=False)
+    tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
+                               hidden_starts=run.hidden_starts, stopped_behind=run.stopped_behind,
+                               settings=HindsightSettings(**{field: on}))[0][:, np.argsort(order)]
+               for on in (False, True)]
+    _write_two_runs(path, video, detector, frame_index, gt, tracked, titles)
 
 
 def _frame_and_detections(video: Path, detector, frame_index: int):
@@ -361,36 +384,12 @@ def main(argv=None) -> int:
                 _write_two_runs(path, video, detector, frame_index, gt, tracked[panels], titles)
                 print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the {step}",
                       file=sys.stderr)
-        for seed, index, genre, n, frame_index, name in AMODAL if args.only in (None, "amodal") else ():
-            from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
-
-            gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
-            run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
-                              write=False, hindsight=False)
-            tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
-                                       hidden_starts=run.hidden_starts, stopped_behind=run.stopped_behind,
-                                       settings=HindsightSettings(amodal_boxes=refined))[0][:, np.argsort(order)]
-                       for refined in (False, True)]
-            path = args.out / name
-            _write_two_runs(path, video, detector, frame_index, gt, tracked,
-                            ("--no-amodal-boxes", "whole-body boxes (as written)"))
-            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the amodal refiner",
-                  file=sys.stderr)
-        for seed, index, genre, n, frame_index, name in DEPTH if args.only in (None, "depth") else ():
-            from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight
-
-            gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
-            run = track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3, overlay=False,
-                              write=False, hindsight=False)
-            tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
-                                       hidden_starts=run.hidden_starts, stopped_behind=run.stopped_behind,
-                                       settings=HindsightSettings(scale_with_depth=scaled))[0][:, np.argsort(order)]
-                       for scaled in (False, True)]
-            path = args.out / name
-            _write_two_runs(path, video, detector, frame_index, gt, tracked,
-                            ("her start size (scale_with_depth off)", "scaled with her feet (as written)"))
-            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with scale_with_depth",
-                  file=sys.stderr)
+        for only, cases, field, titles, what in HINDSIGHT_SETTING_PICTURES:
+            for seed, index, genre, n, frame_index, name in cases if args.only in (None, only) else ():
+                path = args.out / name
+                _write_hindsight_setting(path, tmp, detector, (seed, index, genre, n), field, frame_index, titles)
+                print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with {what}",
+                      file=sys.stderr)
         for seed, index, genre, n, frame_index, name in UNPOSED if args.only in (None, "unposed") else ():
             gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
             tracked = [track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3,

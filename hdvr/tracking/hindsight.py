@@ -239,6 +239,15 @@ def _checked(boxes, status, **counts) -> tuple[np.ndarray, np.ndarray]:
     return boxes, np.asarray([tuple(s) for s in status], dtype=object).reshape(boxes.shape[:2])
 
 
+def _checked_start_boxes(boxes: np.ndarray, start_boxes) -> np.ndarray:
+    """``start_boxes`` as a float array shaped like ``boxes`` (T, N, 4) px, ``boxes`` itself when None; ValueError
+    for another shape."""
+    start_boxes = boxes if start_boxes is None else np.asarray(start_boxes, float)
+    if start_boxes.shape != boxes.shape:
+        raise ValueError(f"start_boxes must be {boxes.shape} like boxes, got {start_boxes.shape}")
+    return start_boxes
+
+
 def _checked_keypoints(keypoints, boxes: np.ndarray) -> np.ndarray:
     """``keypoints`` as a (T, N, 25, 3) BODY_25 float array for (T, N, 4) ``boxes``; ValueError for other shapes."""
     keypoints = np.asarray(keypoints, float)
@@ -535,9 +544,7 @@ def scale_with_depth(boxes: np.ndarray, status, feet: dict[tuple[int, int], tupl
     disagree); NaN: no such check. A horizon at ``-inf`` and frames whose bottom lies above the horizon change
     nothing; the input is not changed."""
     boxes, status = _checked(boxes, status)
-    start_boxes = boxes if start_boxes is None else np.asarray(start_boxes, float)
-    if start_boxes.shape != boxes.shape:
-        raise ValueError(f"start_boxes must be {boxes.shape} like boxes, got {start_boxes.shape}")
+    start_boxes = _checked_start_boxes(boxes, start_boxes)
     if not 0 < limits[0] <= 1 <= limits[1]:
         raise ValueError(f"limits must be (low, high) with 0 < low <= 1 <= high, got {limits}")
     if not stature_factor >= 1:
@@ -547,7 +554,8 @@ def scale_with_depth(boxes: np.ndarray, status, feet: dict[tuple[int, int], tupl
         return out
     for (dancer, first), end in _start_spans(feet, len(boxes)).items():
         front, own_bottom, _ = feet[(dancer, first)]
-        own_ratio = start_boxes[first, dancer, 3] / (own_bottom - horizon) if own_bottom > horizon else np.inf
+        start_height = start_boxes[first, dancer, 3]
+        own_ratio = start_height / (own_bottom - horizon) if own_bottom > horizon else np.inf
         if np.isfinite(seen_ratio) and not 1 / stature_factor <= own_ratio / seen_ratio <= stature_factor:
             continue
         frames = _waiting_frames(boxes, status, dancer, front, first, end)
@@ -556,7 +564,7 @@ def scale_with_depth(boxes: np.ndarray, status, feet: dict[tuple[int, int], tupl
         scale = np.clip(depth_scale(bottom, own_bottom, horizon), *limits)
         keep = np.isfinite(scale) & (own[:, 3] > 0)
         frames, own, bottom, scale = frames[keep], own[keep], bottom[keep], scale[keep]
-        height = start_boxes[first, dancer, 3] * scale
+        height = start_height * scale
         width = own[:, 2] * height / own[:, 3]
         out[frames, dancer] = np.stack([own[:, 0] + (own[:, 2] - width) / 2, bottom - height, width, height], axis=1)
     return out
@@ -606,9 +614,7 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
     boxes, status = _checked(boxes, status)
     if not 0 <= weight <= 1:
         raise ValueError(f"weight must be in [0, 1], got {weight}")
-    start_boxes = boxes if start_boxes is None else np.asarray(start_boxes, float)
-    if start_boxes.shape != boxes.shape:
-        raise ValueError(f"start_boxes must be {boxes.shape} like boxes, got {start_boxes.shape}")
+    start_boxes = _checked_start_boxes(boxes, start_boxes)
     out = boxes.copy()
     spans = _start_spans({(int(d), int(f)) for f, d, _ in hidden_starts}, len(boxes))
     for first, dancer, _ in hidden_starts if weight > 0 else ():  # 0: off, the boxes exactly as they were
