@@ -22,6 +22,8 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
         [--per-clip-json F.json]
     # where each dancer's box lies below IoU 0.5 with its truth (after hindsight, or --online)
     python3 scripts/hindsight_runs.py stretches --clips-dir CLIPS --runs RUNS [--keys 2844_0,2922_3] [--online]
+    # per status, the dancer-frames hindsight moved off their dancer and onto it; the clips it moved off most
+    python3 scripts/hindsight_runs.py harm --clips-dir CLIPS --runs RUNS [--set ...] [--top 20]
 
 CLIPS holds ``synth-SEED/clip_0000I`` folders as ``bench_track.py --clips-dir`` writes them (rendered here when
 missing); RUNS one ``SEED_INDEX.npz`` per clip (keys: boxes, status, keypoints, order, hidden_starts, width).
@@ -139,6 +141,31 @@ def weak_stretches(boxes: np.ndarray, truth_boxes: np.ndarray, order, status, th
                         "median_iou": float(np.median(own[start:end])),
                         "statuses": sorted({status[t][w] for t in range(start, end)}),
                         "on_truth": best if ious[start, w, best] >= threshold else None})
+    return out
+
+
+def hindsight_moves(online: np.ndarray, written: np.ndarray, truth_boxes: np.ndarray, order, status,
+                    threshold: float = 0.5) -> dict[str, tuple[int, int]]:
+    """Per status (``tracked``, ``occluded``, ``hidden``, ...): how many dancer-frames hindsight moved off their own
+    dancer (the ``online`` box at IoU >= ``threshold`` with its truth, the ``written`` box below) and onto it (the
+    other way round), as (harmed, mended). ``online`` and ``written`` (T, N, 4) px in the written order,
+    ``truth_boxes`` (T, M, 4) px amodal truth (NaN where absent; such frames are not counted), ``order`` written id ->
+    ground-truth index, ``status`` (T, N) strings. Hindsight's steps are chosen by the clips they mend and break; this
+    says where, by status, a step that helps on the whole still moves good boxes off (session 75)."""
+    from hdvr.tracking.evaluation import iou_matrix
+
+    def own_iou(boxes):
+        return np.stack([iou_matrix(np.asarray(b, float), np.asarray(g, float))[np.arange(len(order)), order]
+                         for b, g in zip(boxes, truth_boxes)])
+
+    before, after = own_iou(online), own_iou(written)
+    status = np.asarray(status)
+    known = np.isfinite(np.asarray(truth_boxes, float)[:, order]).all(axis=2)
+    out = {}
+    for name in sorted(set(status.ravel().tolist())):
+        here = known & (status == name)
+        out[name] = (int((here & (before >= threshold) & (after < threshold)).sum()),
+                     int((here & (before < threshold) & (after >= threshold)).sum()))
     return out
 
 
@@ -329,6 +356,29 @@ def stretches(args) -> int:
                   f"{s['median_iou']:.2f} ({'/'.join(s['statuses'])}{on})")
     return 0
 
+def harm(args) -> int:
+    settings = parse_settings(args.set or [])
+    totals: dict[str, list[int]] = {}
+    per_clip = []
+    for path, _, _, clip in kept_runs(args.clips_dir, args.runs):
+        run = load_run(path)
+        truth_boxes, _ = _seen_truth(clip)
+        moves = hindsight_moves(run["boxes"], written_boxes(run, settings), truth_boxes, run["order"], run["status"])
+        for name, (harmed, mended) in moves.items():
+            total = totals.setdefault(name, [0, 0])
+            total[0] += harmed
+            total[1] += mended
+            per_clip.append((harmed - mended, harmed, mended, path.stem, name))
+    print("dancer-frames hindsight moved off their dancer (IoU >= 0.5 online, below written) / onto it:")
+    for name, (harmed, mended) in sorted(totals.items()):
+        print(f"  {name}: {harmed} off, {mended} on")
+    worst = sorted((row for row in per_clip if row[1] > 0), key=lambda row: (-row[0], row[3], row[4]))[:args.top]
+    if worst:
+        print(f"clips whose boxes it moved off most (net of those it moved on), top {len(worst)}:")
+    for _, harmed, mended, key, name in worst:
+        print(f"  {key} {name}: {harmed} off, {mended} on")
+    return 0
+
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -369,6 +419,13 @@ def main(argv=None) -> int:
     st.add_argument("--set", action="append", metavar="NAME=VALUE", help="a HindsightSettings field (repeatable)")
     st.add_argument("--online", action="store_true", help="the online tracker's boxes, without hindsight")
     st.set_defaults(func=stretches)
+    hm = sub.add_parser("harm", help="count, per status, the dancer-frames hindsight moved off their dancer (IoU 0.5) "
+                                     "and onto it, and list the clips it moved off most")
+    hm.add_argument("--clips-dir", type=Path, required=True)
+    hm.add_argument("--runs", type=Path, required=True)
+    hm.add_argument("--set", action="append", metavar="NAME=VALUE", help="a HindsightSettings field (repeatable)")
+    hm.add_argument("--top", type=int, default=20, help="clips listed (default 20)")
+    hm.set_defaults(func=harm)
     args = parser.parse_args(argv)
     return args.func(args)
 

@@ -83,6 +83,33 @@ def test_the_stretches_where_a_box_lies_off_its_dancer_are_listed(tmp_path, caps
         script.main(["stretches", *clips, *runs_arg, "--keys", "7_0,8_1"])
 
 
+def test_the_frames_hindsight_moves_off_and_onto_their_dancer_are_counted_per_status(tmp_path, capsys):
+    """``hindsight_moves`` counts, per status, the dancer-frames whose box hindsight moved from IoU >= 0.5 with its
+    own truth to below (off) and back (on): the kept run's held box lies below 0.5 on frames 6-7 and hindsight's
+    filled stretch puts it back (2 occluded frames on); a written box pushed 30 px aside on frames 0-2 of the seen
+    dancer is 3 tracked frames off. Frames without truth are not counted. The ``harm`` command prints the counts
+    and the clip."""
+    script = load_script("hindsight_runs")
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    truth = _kept_run(runs)
+    _clip_with_truth(tmp_path / "clips", truth)
+    run = script.load_run(runs / "7_0.npz")
+    written = script.written_boxes(run, HindsightSettings())
+    assert script.hindsight_moves(run["boxes"], written, truth, run["order"], run["status"]) == \
+        {"occluded": (0, 2), "tracked": (0, 0)}
+    pushed = written.copy()
+    pushed[:3, 0, 0] += 30  # IoU 10/70 of a 40 px wide box
+    no_truth = truth.copy()
+    no_truth[1] = np.nan
+    assert script.hindsight_moves(run["boxes"], pushed, no_truth, run["order"], run["status"]) == \
+        {"occluded": (0, 2), "tracked": (2, 0)}
+    assert script.main(["harm", "--clips-dir", str(tmp_path / "clips"), "--runs", str(runs)]) == 0
+    out = capsys.readouterr().out
+    assert "occluded: 0 off, 2 on" in out and "tracked: 0 off, 0 on" in out
+    assert "clips whose boxes" not in out  # none moved off
+
+
 def test_settings_are_parsed_with_clear_errors():
     script = load_script("hindsight_runs")
     s = script.parse_settings(["keypoint_reach=0.1", "smooth_window=13"])
