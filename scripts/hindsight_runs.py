@@ -79,17 +79,21 @@ def save_run(path: Path, run, order) -> None:
                             status=np.array(run.status, dtype="U10").reshape(run.boxes.shape[:2]),
                             keypoints=run.keypoints, order=np.asarray(order, int),
                             hidden_starts=np.array(run.hidden_starts, int).reshape(-1, 3), width=float(run.size[0]),
-                            stopped_behind=np.asarray(run.stopped_behind, bool))
+                            stopped_behind=np.asarray(run.stopped_behind, bool),
+                            returned_behind=np.asarray(run.returned_behind, bool))
 
 
 def load_run(path: Path) -> dict:
     """A run kept by :func:`save_run`: its arrays, with ``status`` as T tuples of N strings, ``hidden_starts``
-    as (frame, dancer, front) tuples and ``stopped_behind`` (T, N) bool (None in a run kept before it was)."""
+    as (frame, dancer, front) tuples, ``stopped_behind`` and ``returned_behind`` (T, N) bool (None in a run kept
+    before each was)."""
     try:
         with np.load(path) as data:
             run = {k: data[k] for k in RUN_KEYS}
             # runs kept before session 57 have no stopped_behind (the tracker stopped no prediction then)
             run["stopped_behind"] = data["stopped_behind"] if "stopped_behind" in data.files else None
+            # and before session 75 no returned_behind (no waiting dancer was put back behind the front one)
+            run["returned_behind"] = data["returned_behind"] if "returned_behind" in data.files else None
     except (OSError, ValueError, KeyError) as exc:
         raise SystemExit(f"hindsight_runs: {path} is not a kept run ({type(exc).__name__}: {exc})")
     run["status"] = [tuple(str(s) for s in row) for row in run["status"]]
@@ -104,7 +108,7 @@ def written_boxes(run: dict, settings: HindsightSettings | None) -> np.ndarray:
         return np.asarray(run["boxes"], float)
     return apply_hindsight(run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
                            hidden_starts=run["hidden_starts"], settings=settings,
-                           stopped_behind=run.get("stopped_behind"))[0]
+                           stopped_behind=run.get("stopped_behind"), returned_behind=run.get("returned_behind"))[0]
 
 
 def score_run(run: dict, truth_boxes: np.ndarray, settings: HindsightSettings | None,

@@ -63,6 +63,7 @@ BEFORE_AFTER = (
     (2915, 2, "hip_hop", 3, 108, "foreground_feet", "tracking_foreground_feet_s2915_hip_hop_108.jpg"),
     (2865, 2, "hip_hop", 3, 27, "pixel_front_limb", "tracking_pixel_front_limb_s2865_hip_hop_027.jpg"),
     (2804, 5, "ballet", 4, 45, "waiting_back_behind", "tracking_waiting_back_behind_s2804_ballet_045.jpg"),
+    (2907, 5, "ballet", 4, 60, "waiting_empty_behind", "tracking_waiting_empty_behind_s2907_ballet_060.jpg"),
     (2870, 5, "ballet", 4, 27, "emerge_front_leaves", "tracking_emerge_front_leaves_s2870_ballet_027.jpg"),
     (2906, 3, "flamenco", 3, 45, "emerge_height_yield", "tracking_emerge_height_yield_s2906_flamenco_045.jpg"),
     (2844, 0, "tango", 2, 54, "waiting_counts_behind", "tracking_waiting_counts_behind_s2844_tango_054.jpg"),
@@ -257,6 +258,7 @@ def _write_hindsight_setting(path: Path, tmp: Path, detector, case, field: str, 
                       write=False, hindsight=False)
     tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
                                hidden_starts=run.hidden_starts, stopped_behind=run.stopped_behind,
+                               returned_behind=run.returned_behind,
                                settings=HindsightSettings(**{field: on}))[0][:, np.argsort(order)]
                for on in (False, True)]
     _write_two_runs(path, video, detector, frame_index, gt, tracked, titles)
@@ -439,6 +441,7 @@ def _write_procedural_hold(path: Path, tmp: Path, detector, figures: int, seed: 
                       write=False, hindsight=False)
     tracked = [apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=run.size[0],
                                hidden_starts=run.hidden_starts, stopped_behind=run.stopped_behind,
+                               returned_behind=run.returned_behind,
                                settings=HindsightSettings(**settings))[0] for settings in ({"hold_min_cover": 0.0}, {})]
     _write_two_runs(path, video, detector, frame_index, truth.boxes, tracked,
                     ("held where last seen (hold_min_cover 0)", "place open to view: online (as written)"))

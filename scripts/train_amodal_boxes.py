@@ -67,7 +67,7 @@ def load_set(spec: str) -> list[Clip]:
         truth, _ = _seen_truth(clip)
         boxes = apply_hindsight(run["boxes"], run["status"], run["keypoints"], frame_width=float(run["width"]),
                                 hidden_starts=run["hidden_starts"], settings=UNREFINED,
-                                stopped_behind=run["stopped_behind"])[0]
+                                stopped_behind=run["stopped_behind"], returned_behind=run["returned_behind"])[0]
         out.append(Clip(str(runs_dir), path.stem, run, boxes, truth[:, run["order"]]))
     return out
 

@@ -591,6 +591,33 @@ def test_apply_hindsight_pulls_a_wait_never_seen_towards_the_start_place_last():
     assert np.abs(kept[1:, 1, 0] - off[1:, 1, 0]).max() > 1.0
 
 
+def test_a_wait_the_online_tracker_sent_back_behind_the_front_dancer_is_not_pulled_to_the_start_place():
+    """A wait in some frame of which the online tracker found the waiting dancer's box on the empty floor and put it
+    back behind the dancer in front (``returned``, ``TrackRun.returned_behind``) keeps its boxes: her start place
+    showed nobody, so she had not stayed there. Another dancer's mark, or none, changes nothing; in
+    ``apply_hindsight`` ``keep_returned=False`` pulls it as before. A mask of the wrong shape is a clear error."""
+    boxes, _ = _stack()
+    never_seen = [("tracked", "hidden")] * len(boxes)
+    returned = np.zeros(boxes.shape[:2], bool)
+    returned[6, 1] = True
+    np.testing.assert_array_equal(keep_start_place(boxes, never_seen, [(0, 1, 0)], returned=returned), boxes)
+    pulled = keep_start_place(boxes, never_seen, [(0, 1, 0)])
+    assert np.abs(pulled[1:, 1, 0] - boxes[1:, 1, 0]).max() > 1.0
+    other = np.zeros(boxes.shape[:2], bool)
+    other[6, 0] = True
+    np.testing.assert_array_equal(keep_start_place(boxes, never_seen, [(0, 1, 0)], returned=other), pulled)
+    keypoints = np.full(boxes.shape[:2] + (25, 3), np.nan)
+    keypoints[..., 2] = 0
+    kept, without = (apply_hindsight(boxes, never_seen, keypoints, hidden_starts=[(0, 1, 0)], returned_behind=returned,
+                                     settings=HindsightSettings(keep_returned=k))[0] for k in (True, False))
+    off = apply_hindsight(boxes, never_seen, keypoints, hidden_starts=[(0, 1, 0)],
+                          settings=HindsightSettings(start_place_weight=0.0))[0]
+    np.testing.assert_allclose(kept, off)
+    assert np.abs(without[1:, 1, 0] - kept[1:, 1, 0]).max() > 1.0
+    with pytest.raises(ValueError, match="returned"):
+        keep_start_place(boxes, never_seen, [(0, 1, 0)], returned=returned[:3])
+
+
 def test_apply_hindsight_keeps_a_hidden_start_s_offset_after_the_other_steps():
     """``apply_hindsight`` with the hidden starts moves the hidden frames of the boxes its other steps wrote, with
     the start offsets of the online boxes it was given; without them nothing moves."""

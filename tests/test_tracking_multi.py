@@ -2256,7 +2256,9 @@ def test_a_waiting_dancer_whose_tracker_drifted_onto_the_background_goes_back_be
     on_wall = (80.0, 170.0, 50.0, 180.0)
     boxes = {}
     for on in (True, False):
-        tracker = MultiDancerTracker(frame, [front, behind], MultiTrackerConfig(waiting_back_behind=on))
+        # waiting_empty_behind off: it would put the occluded box back behind him too, on the next frame
+        tracker = MultiDancerTracker(frame, [front, behind], MultiTrackerConfig(waiting_back_behind=on,
+                                                                                 waiting_empty_behind=False))
         d = tracker.dancers[1]
         assert d.hidden_behind == 0
         np.testing.assert_allclose(d.wait_offset, ((335 - 335) / 180, (350 - 370) / 180))
@@ -2269,6 +2271,36 @@ def test_a_waiting_dancer_whose_tracker_drifted_onto_the_background_goes_back_be
     np.testing.assert_allclose(boxes[True], behind, atol=1.0)
     assert abs(boxes[False][0] - on_wall[0]) < 20, boxes[False]
     assert MultiTrackerConfig().waiting_back_behind
+
+
+def test_an_occluded_waiting_dancer_left_on_the_empty_floor_goes_back_behind_the_dancer_in_front():
+    """A dancer waiting hidden behind another since its start, occluded, is predicted from a velocity it never had
+    (it was never seen clear): its box stands still while the dancer in front walks on with her, until it lies on
+    the empty floor (hdvr synth seed 2907 ballet: 75 frames). There it would be seen, so ``waiting_empty_behind``
+    puts it back behind the dancer in front, at its start offset from him (``wait_offset``), and marks the dancer
+    ``returned_behind`` (hindsight then leaves the wait where the tracker has it); without it the box stays."""
+    from hdvr.tracking.multi import _box_behind, _offset_behind
+
+    rng = np.random.default_rng(5)
+    front = (300.0, 150.0, 70.0, 220.0)
+    behind = (310.0, 170.0, 50.0, 180.0)  # straight behind: its bottom (350) higher than his (370)
+    first = _two_colour_frame(rng, [(front, ((20, 20, 220), (200, 60, 0)))])
+    walked = (420.0, 150.0, 70.0, 220.0)  # he walked 120 px right, she with him, hidden
+    later = _two_colour_frame(rng, [(walked, ((20, 20, 220), (200, 60, 0)))])
+    boxes = {}
+    for on in (True, False):
+        tracker = MultiDancerTracker(first, [front, behind], MultiTrackerConfig(waiting_empty_behind=on))
+        d = tracker.dancers[1]
+        tracker._occlude(d, [tracker.dancers[0]])
+        for _ in range(3):
+            tracker.step(later, detections=[walked])
+        assert d.status == OCCLUDED and d.hidden_behind == 0 and d.returned_behind == on
+        boxes[on] = (d.box, tracker.dancers[0].box)
+    mine, his = boxes[True]
+    np.testing.assert_allclose(mine, _box_behind(behind, his, _offset_behind(behind, front)), atol=1e-6)
+    assert abs(mine[0] - behind[0] - (his[0] - front[0])) < 1.0  # moved as far as he did
+    assert abs(boxes[False][0][0] - behind[0]) < 5, boxes[False]  # on the empty floor where she started
+    assert MultiTrackerConfig().waiting_empty_behind
 
 
 def test_a_box_placed_behind_a_moved_front_dancer_keeps_its_offset_in_its_own_heights():

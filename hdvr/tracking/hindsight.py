@@ -248,6 +248,17 @@ def _checked_start_boxes(boxes: np.ndarray, start_boxes) -> np.ndarray:
     return start_boxes
 
 
+def _checked_mask(boxes: np.ndarray, mask, name: str) -> np.ndarray | None:
+    """Optional (T, N) bool ``mask`` for ``boxes`` (T, N, 4), as an array (None stays None); a clear error
+    naming it (``name``) otherwise."""
+    if mask is None:
+        return None
+    mask = np.asarray(mask, bool)
+    if mask.shape != boxes.shape[:2]:
+        raise ValueError(f"{name} must be (T, N) for boxes {boxes.shape}, got {mask.shape}")
+    return mask
+
+
 def _checked_keypoints(keypoints, boxes: np.ndarray) -> np.ndarray:
     """``keypoints`` as a (T, N, 25, 3) BODY_25 float array for (T, N, 4) ``boxes``; ValueError for other shapes."""
     keypoints = np.asarray(keypoints, float)
@@ -603,18 +614,23 @@ def fill_hidden_until_seen(boxes: np.ndarray, status, hidden_starts, weight: flo
 
 
 def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = START_PLACE_WEIGHT,
-                     start_boxes: np.ndarray | None = None) -> np.ndarray:
+                     start_boxes: np.ndarray | None = None, returned: np.ndarray | None = None) -> np.ndarray:
     """``boxes`` (T, N, 4) px with the boxes of each wait of ``hidden_starts`` ((frame, dancer, dancer in front)
     triples) that is never followed by a sighting (the dancer is still ``hidden`` at the end of the video, or its
     wait ends with any status but ``tracked``) moved sideways ``weight`` of the way from their centre to the centre
     of its start box (module docstring); a wait that a later start of the same dancer (a user's correction behind
     another dancer) cuts short is left as it is. ``start_boxes`` (T, N, 4) px: where the start boxes are read (default
     ``boxes``; :func:`apply_hindsight` gives the online boxes). A wait that ends seen is left to
-    :func:`fill_hidden_until_seen`. Size, height and frames without a box are kept; the input is not changed."""
+    :func:`fill_hidden_until_seen`, and so is, as the online tracker has it, a wait in some frame of which
+    ``returned`` ((T, N) bool, ``TrackRun.returned_behind``) says the online tracker found the dancer's box on the
+    empty floor and put it back behind the dancer in front (``MultiTrackerConfig.waiting_empty_behind``): the
+    place it was left at showed nobody, so it had not stayed there. Size, height and frames without a box are kept;
+    the input is not changed."""
     boxes, status = _checked(boxes, status)
     if not 0 <= weight <= 1:
         raise ValueError(f"weight must be in [0, 1], got {weight}")
     start_boxes = _checked_start_boxes(boxes, start_boxes)
+    returned = _checked_mask(boxes, returned, "returned")
     out = boxes.copy()
     spans = _start_spans({(int(d), int(f)) for f, d, _ in hidden_starts}, len(boxes))
     for first, dancer, _ in hidden_starts if weight > 0 else ():  # 0: off, the boxes exactly as they were
@@ -623,6 +639,8 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
             continue
         start = start_boxes[first, dancer]
         if (end < len(boxes) and status[end, dancer] == TRACKED) or not np.isfinite(start).all():
+            continue
+        if returned is not None and returned[first:end, dancer].any():  # its place seen empty: it went on
             continue
         frames = np.arange(first + 1, end)
         frames = frames[np.isfinite(boxes[frames, dancer]).all(axis=1)]
@@ -641,7 +659,9 @@ class HindsightSettings:
     off). ``hold_weight``: the share of the box last seen in a held stretch (:func:`hold_last_seen`), the rest the
     online prediction; ``keep_stopped``: a stretch in which the online tracker stopped the dancer behind the dancers in
     front keeps its online boxes (:func:`hold_last_seen`'s ``stopped``), and so does one in which the place last seen
-    lies open to view (``hold_min_cover``, :func:`hold_last_seen`'s ``min_cover``). ``scale_with_depth``: scale waiting
+    lies open to view (``hold_min_cover``, :func:`hold_last_seen`'s ``min_cover``); ``keep_returned``: a wait in
+    which the online tracker put the dancer back behind the dancer in front from the empty floor keeps its online
+    boxes (:func:`keep_start_place`'s ``returned``). ``scale_with_depth``: scale waiting
     dancers' boxes with their feet (:func:`scale_with_depth`), with a horizon fitted only where some dancer's feet range
     over ``horizon_min_spread`` of its height, and ``depth_stature_factor`` its check of the waiting dancer's start
     against the horizon. ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at
@@ -658,6 +678,7 @@ class HindsightSettings:
     start_place_weight: float = START_PLACE_WEIGHT
     hold_weight: float = HOLD_WEIGHT
     keep_stopped: bool = True
+    keep_returned: bool = True
     hold_min_cover: float = HOLD_MIN_COVER
     amodal_boxes: bool = True
     amodal_weights: str = ""
@@ -668,7 +689,8 @@ class HindsightSettings:
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
                     hidden_starts=(), settings: HindsightSettings | None = None,
-                    stopped_behind: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+                    stopped_behind: np.ndarray | None = None,
+                    returned_behind: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The boxes ``hdvr track`` writes, from the online tracker's ``boxes`` (T, N, 4) px, ``status``, the
     ``keypoints`` (T, N, 25, 3) written for each dancer and the dancers that start hidden behind another
     (``hidden_starts``: (frame, dancer, dancer in front) triples): :func:`fill_occluded`, :func:`hold_last_seen`,
@@ -679,7 +701,9 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     :func:`fill_hidden_until_seen`, :func:`keep_start_place` (towards the online start boxes) and
     :func:`hdvr.tracking.amodal.refine_boxes` (seen dancers' boxes to their whole body), in that order, with
     ``settings`` (default: :class:`HindsightSettings`, the module's); ``stopped_behind``: optional (T, N) bool, the
-    frames in which the online tracker had stopped a dancer behind the dancers in front (``TrackRun.stopped_behind``).
+    frames in which the online tracker had stopped a dancer behind the dancers in front (``TrackRun.stopped_behind``);
+    ``returned_behind``: optional (T, N) bool, the frames by which it had put a waiting dancer back behind the dancer
+    in front from the empty floor (``TrackRun.returned_behind``; :func:`keep_start_place` leaves such a wait).
     Returns the boxes and the (T, N) bool mask of the frames filled."""
     s = settings or HindsightSettings()
     online = np.asarray(boxes, float)
@@ -698,7 +722,8 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
                                  seen_ratio=height_ratio(boxes, status, horizon), stature_factor=s.depth_stature_factor)
     boxes = fill_hidden_until_seen(boxes, status, hidden_starts, weight=s.hidden_fill_weight,
                                    walk_frames=s.hidden_walk_frames)
-    boxes = keep_start_place(boxes, status, hidden_starts, weight=s.start_place_weight, start_boxes=online)
+    boxes = keep_start_place(boxes, status, hidden_starts, weight=s.start_place_weight, start_boxes=online,
+                             returned=returned_behind if s.keep_returned else None)
     if s.amodal_boxes:
         boxes = refine_boxes(boxes, status, keypoints, weights=s.amodal_weights)
     return boxes, filled

@@ -73,6 +73,9 @@ class TrackRun:
     # ``detections_cache``) instead of the detector
     stopped_behind: np.ndarray | None = None  # (T, N) bool: occluded, its predicted box stopped behind the dancers
     # in front (``DancerTrack.stopped_behind``); hindsight keeps such a stretch's online boxes
+    returned_behind: np.ndarray | None = None  # (T, N) bool: waiting behind another since its start and put back
+    # behind it from the empty floor (``DancerTrack.returned_behind``) on or before this frame; hindsight does not
+    # pull such a wait back towards the start place (:func:`hdvr.tracking.hindsight.keep_start_place`)
 
 
 @dataclass(frozen=True)
@@ -424,7 +427,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     if crops and zoom_input_size and hasattr(detector, "at_input_size"):
         crop_detector = detector.at_input_size(zoom_input_size)
     zoom_retry: dict[int, int] = {}  # tracker index -> first frame to look for it zoomed in again (zoom_unposed)
-    all_boxes, all_status, all_conf, all_kp, detected, all_stopped = [], [], [], [], [], []
+    all_boxes, all_status, all_conf, all_kp, detected, all_stopped, all_returned = [], [], [], [], [], [], []
     stage = dict.fromkeys(("decode", "detect", "track", "select", "overlay"), 0.0)
     tracker = None
     hidden_starts = []
@@ -537,6 +540,11 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             if tracker is not None:
                 stopped[:len(tracker.dancers)] = [d.status == OCCLUDED and d.stopped_behind for d in tracker.dancers]
             all_stopped.append(stopped[order])
+            returned = np.zeros(n, bool)  # waiting dancers put back behind the dancer in front from the empty floor
+            if tracker is not None:
+                returned[:len(tracker.dancers)] = [d.hidden_behind is not None and d.returned_behind
+                                                   for d in tracker.dancers]
+            all_returned.append(returned[order])
             all_kp.append(kp[order])
             detected.append(run_detector)
             t += 1
@@ -549,20 +557,23 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     finally:
         bar.close()
     done = min(len(all_boxes), len(all_status), len(all_conf), len(all_kp), len(detected),  # an interrupt may
-               len(all_stopped))  # land mid-frame
+               len(all_stopped), len(all_returned))  # land mid-frame
     del all_boxes[done:], all_status[done:], all_conf[done:], all_kp[done:], detected[done:], all_stopped[done:]
+    del all_returned[done:]
     if not all_boxes:
         if failure is not None:
             raise failure
         raise HDVRError(f"video {video} has no decodable frame")
     run = TrackRun(np.array(all_boxes, float), all_status, np.array(all_conf, float), np.array(all_kp, np.float32),
                    np.array(detected, bool), info.fps, info.size, hidden_starts=hidden_starts,
-                   stopped_behind=np.array(all_stopped, bool).reshape(done, n))
+                   stopped_behind=np.array(all_stopped, bool).reshape(done, n),
+                   returned_behind=np.array(all_returned, bool).reshape(done, n))
     run.keypoints = fill_between_detections(run.keypoints, run.detected, detect_every)
     run.filled = np.zeros(run.boxes.shape[:2], bool)
     if hindsight:
         run.boxes, run.filled = apply_hindsight(run.boxes, run.status, run.keypoints, frame_width=info.size[0],
                                                 hidden_starts=hidden_starts, stopped_behind=run.stopped_behind,
+                                                returned_behind=run.returned_behind,
                                                 settings=HindsightSettings(amodal_boxes=amodal_boxes,
                                                                            amodal_weights=str(amodal_weights or "")))
     for c in corrections:  # written as the user gave them (or as found where the user pointed)

@@ -57,6 +57,9 @@ class DancerTrack:
     found_streak: int = 0  # detector frames in a row, while clear, with a person detected on its box
     stopped_behind: bool = False  # occluded, its predicted box was stopped behind the dancers in front
     # (``MultiTrackerConfig.hold_uncovered_prediction``) and stays there until it is found again
+    returned_behind: bool = False  # waiting behind another since its start, occluded, and put back behind that
+    # dancer at least once because its box lay clear of everyone on the floor or wall
+    # (``MultiTrackerConfig.waiting_empty_behind``): the place it was left at showed nobody
     out_unseen: bool = False  # out of the frame because its predicted box left it while occluded (not seen leaving)
     lost_candidate: tuple | None = None  # while occluded long: the box (px) the whole-frame search last found it at
     # (:meth:`hdvr.tracking.multi.MultiDancerTracker._search_lost`), and on how many searches in a row there
