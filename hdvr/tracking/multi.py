@@ -804,7 +804,7 @@ class MultiDancerTracker(ReportedExtent):
         self.given_detections |= detections is not None
         self._restart(d, frame, b, 1.0)
         d.status = d.last_status = TRACKED
-        d.hidden_behind = None
+        d.hidden_behind, d.returned_behind = None, False  # a wait behind another starting here is a new one
         d.occlusion_end = d.occluded_since = d.recovering_until = -1
         d.stored_velocity, d.velocity_measured = np.zeros(2), False
         d.growth = np.zeros(4)
