@@ -360,6 +360,7 @@ def stretches(args) -> int:
                   f"{s['median_iou']:.2f} ({'/'.join(s['statuses'])}{on})")
     return 0
 
+
 def harm(args) -> int:
     settings = parse_settings(args.set or [])
     totals: dict[str, list[int]] = {}

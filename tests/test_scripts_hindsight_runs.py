@@ -36,12 +36,19 @@ def _clip_with_truth(clips_dir, truth, seed=7, index=0):
     return clip
 
 
-def test_a_kept_run_scores_with_hindsight_filling_the_occluded_stretch(tmp_path, capsys):
+def _kept_clip(tmp_path):
+    """The script, the runs folder holding :func:`_kept_run` (7_0) with its clip's truth under ``tmp_path/clips``,
+    the truth (T, N, 4) px and the run as :func:`load_run` reads it."""
     script = load_script("hindsight_runs")
     runs = tmp_path / "runs"
     runs.mkdir()
     truth = _kept_run(runs)
     _clip_with_truth(tmp_path / "clips", truth)
+    return script, runs, truth, script.load_run(runs / "7_0.npz")
+
+
+def test_a_kept_run_scores_with_hindsight_filling_the_occluded_stretch(tmp_path, capsys):
+    script, runs, truth, run = _kept_clip(tmp_path)
     out = tmp_path / "scores.json"
     assert script.main(["score", "--clips-dir", str(tmp_path / "clips"), "--runs", str(runs),
                         "--per-clip-json", str(out)]) == 0
@@ -51,7 +58,6 @@ def test_a_kept_run_scores_with_hindsight_filling_the_occluded_stretch(tmp_path,
     assert clip["idf1"] == 1.0 and clip["id_switches"] == 0  # the filled stretch follows the dancer
     assert "1 clips, mean IDF1 1.0000" in capsys.readouterr().out
     # without hindsight the held box falls behind the moving dancer: the kept boxes themselves score lower
-    run = script.load_run(runs / "7_0.npz")
     from hdvr.tracking.evaluation import evaluate_tracking
     assert evaluate_tracking(truth, run["boxes"]).idf1 < 1.0
 
@@ -60,12 +66,7 @@ def test_the_stretches_where_a_box_lies_off_its_dancer_are_listed(tmp_path, caps
     """``weak_stretches`` lists the frames where a written box lies below IoU 0.5 with its own dancer's truth: the
     held box of the kept run falls behind from frame 6 (IoU 0.45, 0.33); hindsight fills the stretch and none is
     left. The ``stretches`` command prints them per clip."""
-    script = load_script("hindsight_runs")
-    runs = tmp_path / "runs"
-    runs.mkdir()
-    truth = _kept_run(runs)
-    _clip_with_truth(tmp_path / "clips", truth)
-    run = script.load_run(runs / "7_0.npz")
+    script, runs, truth, run = _kept_clip(tmp_path)
     found = script.weak_stretches(run["boxes"], truth, run["order"], run["status"])
     assert [(s["dancer"], s["truth"], s["start"], s["end"], s["statuses"], s["on_truth"]) for s in found] == \
         [(1, 1, 6, 8, ["occluded"], None)]
@@ -87,14 +88,9 @@ def test_the_frames_hindsight_moves_off_and_onto_their_dancer_are_counted_per_st
     """``hindsight_moves`` counts, per status, the dancer-frames whose box hindsight moved from IoU >= 0.5 with its
     own truth to below (off) and back (on): the kept run's held box lies below 0.5 on frames 6-7 and hindsight's
     filled stretch puts it back (2 occluded frames on); a written box pushed 30 px aside on frames 0-2 of the seen
-    dancer is 3 tracked frames off. Frames without truth are not counted. The ``harm`` command prints the counts
-    and the clip."""
-    script = load_script("hindsight_runs")
-    runs = tmp_path / "runs"
-    runs.mkdir()
-    truth = _kept_run(runs)
-    _clip_with_truth(tmp_path / "clips", truth)
-    run = script.load_run(runs / "7_0.npz")
+    dancer is off on each, but frame 1 has no truth and is not counted: 2 tracked frames off. The ``harm`` command
+    prints the counts, and no clip when none moved off."""
+    script, runs, truth, run = _kept_clip(tmp_path)
     written = script.written_boxes(run, HindsightSettings())
     assert script.hindsight_moves(run["boxes"], written, truth, run["order"], run["status"]) == \
         {"occluded": (0, 2), "tracked": (0, 0)}

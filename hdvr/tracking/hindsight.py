@@ -249,8 +249,8 @@ def _checked_start_boxes(boxes: np.ndarray, start_boxes) -> np.ndarray:
 
 
 def _checked_mask(boxes: np.ndarray, mask, name: str) -> np.ndarray | None:
-    """Optional (T, N) bool ``mask`` for ``boxes`` (T, N, 4), as an array (None stays None); a clear error
-    naming it (``name``) otherwise."""
+    """A (T, N) bool ``mask`` for ``boxes`` (T, N, 4), as an array (None stays None: an optional mask not given); a
+    clear error naming it (``name``) for another shape."""
     if mask is None:
         return None
     mask = np.asarray(mask, bool)
@@ -318,13 +318,8 @@ def hold_last_seen(boxes: np.ndarray, status, filled: np.ndarray, weight: float 
     that place lay open to view, so the dancer was not there; 0: off. Returns the new boxes and a (T, N) bool mask of
     the frames held. The input is not changed."""
     boxes, status = _checked(boxes, status)
-    filled = np.asarray(filled, bool)
-    if filled.shape != boxes.shape[:2]:
-        raise ValueError(f"filled must be (T, N) for boxes {boxes.shape}, got {filled.shape}")
-    if stopped is not None:
-        stopped = np.asarray(stopped, bool)
-        if stopped.shape != boxes.shape[:2]:
-            raise ValueError(f"stopped must be (T, N) for boxes {boxes.shape}, got {stopped.shape}")
+    filled = _checked_mask(boxes, np.asarray(filled, bool), "filled")  # required: None is a wrong shape too
+    stopped = _checked_mask(boxes, stopped, "stopped")
     out = boxes.copy()
     held = np.zeros(boxes.shape[:2], bool)
     for i in range(boxes.shape[1]):
