@@ -70,6 +70,8 @@ BEFORE_AFTER = (
     (2922, 3, "flamenco", 3, 81, "reid_radius_growth", "tracking_reid_radius_growth_s2922_flamenco_081.jpg"),
     (2844, 4, "hip_hop", 4, 95, "emerge_past_unlike_occluded",
      "tracking_emerge_past_unlike_occluded_s2844_hip_hop_095.jpg"),
+    (3016, 5, "ballet", 4, 60, "stray_adrift_height_change", "tracking_stray_adrift_height_s3016_ballet_060.jpg"),
+    (3038, 4, "hip_hop", 4, 40, "reid_past_waiting", "tracking_reid_past_waiting_s3038_hip_hop_040.jpg"),
 )
 #: (figures, seed, frame, picture name): a procedural crossing clip (``bench_track.py --sections identity``) where a
 #: figure that walked on behind another is held where it went behind without ``HindsightSettings.hold_min_cover``

@@ -777,6 +777,33 @@ def test_an_occluded_dancer_is_not_reidentified_on_a_box_around_a_dancer_without
     assert reidentified(1.5)
 
 
+def test_an_occluded_dancer_is_reidentified_on_the_detection_of_the_dancer_waiting_behind_it():
+    """A dancer waiting behind another since its start shows nothing of its own: a detection its box takes, over its
+    body core, shows the dancer it waits behind. With ``reid_past_waiting`` (on) an occluded dancer is
+    re-identified there (hdvr synth seed 3038 hip-hop: a dancer occluded in a floor move stood up clear of everyone
+    but the dancer hidden behind her, whose box took her detection; 0.721 with 3 switches -> 0.988); without it the
+    detection is that dancer's and the occluded one's box is predicted on."""
+    rng = np.random.default_rng(4)
+    background = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
+    front_box, waiting_box = (200.0, 100.0, 70.0, 220.0), (215.0, 90.0, 40.0, 190.0)
+    frame = background.copy()
+    frame[100:320, 200:270] = (30, 40, 210)  # the red dancer in front; the one behind it shows nothing
+    detection = (205.0, 105.0, 62.0, 212.0)  # the red dancer again, standing up where she was
+
+    def reidentified(on: bool) -> bool:
+        tracker = MultiDancerTracker(frame, [front_box, waiting_box], MultiTrackerConfig(reid_past_waiting=on))
+        front, waiting = tracker.dancers
+        assert waiting.hidden_behind == front.dancer_id and waiting.status == TRACKED
+        front.status, front.box = OCCLUDED, (240.0, 80.0, 70.0, 220.0)  # predicted on, up and to the right
+        assert tracker._claims([detection]) == {waiting.dancer_id: 0}  # the waiting dancer's box takes it
+        tracker._reidentify(frame, [front], [(560.0, 100.0, 70.0, 220.0)], [detection])  # own tracker astray
+        return front.status == TRACKED and box_iou(front.box, detection) > 0.5
+
+    assert reidentified(True)
+    assert not reidentified(False)
+    assert MultiTrackerConfig().reid_past_waiting
+
+
 def test_an_occluded_dancer_is_not_reidentified_on_a_box_around_a_pile_of_dancers():
     """A detection that holds the body cores of two or more other dancers (``reid_pile_cores``; occluded ones at
     their predicted boxes) is a box around a pile of figures, not one of them coming out: procedural crossings with
@@ -2089,6 +2116,20 @@ def test_a_dancer_in_front_of_one_waiting_behind_it_adapts_its_height(tmp_path):
     assert MultiTrackerConfig().front_of_waiting_clear
 
 
+def _box_left_behind(frames, boxes, left_at, config, detections) -> tuple:
+    """Dancer 0's box in the last of ``frames`` when it was started on the truth ``boxes`` (per frame, x, y, w, h px)
+    and its tracker restarted on the box ``left_at`` in frame 1 (as if it had stayed behind there), tracked with
+    ``config`` on ``detections`` from frame 2 on; the dancer is still tracked."""
+    tracker = MultiDancerTracker(frames[0], boxes[0], config)
+    tracker.step(frames[1], boxes[1])
+    lost = tracker.dancers[0]
+    tracker._restart(lost, frames[1], left_at, 0.5)
+    for frame, found in zip(frames[2:], detections):
+        tracker.step(frame, found)
+    assert lost.status == TRACKED
+    return lost.box
+
+
 def test_a_tracked_dancer_whose_box_stayed_behind_takes_a_stray_person_with_its_colours(tmp_path):
     """A dancer in a group can keep a box that stays behind (on the background or the dancer it walked behind)
     while it comes out elsewhere: still tracked, nothing re-identifies it. With ``stray_adrift`` (the default since
@@ -2104,17 +2145,58 @@ def test_a_tracked_dancer_whose_box_stayed_behind_takes_a_stray_person_with_its_
 
     def final_box(adrift: bool) -> tuple:
         config = MultiTrackerConfig(stray_adrift=adrift, max_missed_detections=1000)
-        tracker = MultiDancerTracker(frames[0], boxes[0], config)
-        tracker.step(frames[1], boxes[1])
-        lost = tracker.dancers[0]
-        tracker._restart(lost, frames[1], background, 0.5)  # its tracker now follows the backdrop
-        for t in range(2, 8):
-            tracker.step(frames[t], boxes[t])
-        assert lost.status == TRACKED
-        return lost.box
+        return _box_left_behind(frames, boxes, background, config, boxes[2:])
 
     assert box_iou(final_box(True), boxes[7][0]) > 0.7
     assert box_iou(final_box(False), boxes[7][0]) == 0.0
+
+
+def test_a_stray_person_shorter_than_the_box_that_stayed_behind_still_takes_the_dancer(tmp_path):
+    """A dancer never seen clear has no ratio of its box to its detections, and its box holds the whole body where
+    the detector draws less: the person it is may be 1.27 x shorter than its box (hdvr synth seed 3016 ballet).
+    ``stray_adrift_height_change`` (1.35) lets such a person take the dancer's tracker; with
+    ``reid_height_change`` (1.25) as the limit it does not."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=2, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    boxes = [[tuple(float(v) for v in b) for b in frame_boxes] for frame_boxes in truth.boxes]
+    background = (250.0, 20.0, 95.0, 275.0)  # between the two figures, on the backdrop
+
+    def shorter(box):  # the detector's box: 1.3 x shorter than the box that stayed behind, feet kept
+        x, y, w, h = box
+        return (x, y + h - background[3] / 1.3, w, background[3] / 1.3)
+
+    def final_box(limit) -> tuple:
+        config = MultiTrackerConfig(stray_adrift_height_change=limit, max_missed_detections=1000)
+        return _box_left_behind(frames, boxes, background, config, [[shorter(b[0]), b[1]] for b in boxes[2:]])
+
+    assert MultiTrackerConfig().stray_adrift_height_change == 1.35
+    assert box_iou(final_box(1.35), boxes[7][0]) > 0.6
+    assert box_iou(final_box(None), boxes[7][0]) == 0.0
+
+
+def test_dancers_waiting_behind_a_dancer_taken_elsewhere_wait_behind_the_dancer_in_front_of_them():
+    """When a dancer's box that had stayed on a stack is taken elsewhere (``stray_adrift``), the dancers that waited
+    behind it since their start stood behind that stack, not behind the dancer that walked out of it: each one left
+    clear of its new box waits from then on behind the dancer followed straight in front of it
+    (``adrift_hands_over_waiting``), at its offset from that dancer now; one with nobody in front stays as it was."""
+    from hdvr.tracking.multi import _offset_behind
+
+    frame = np.full((480, 640, 3), 90, np.uint8)
+    walked = (250.0, 100.0, 60.0, 220.0)  # the front dancer's box, still on the stack
+    middle = (245.0, 110.0, 50.0, 170.0)  # a dancer followed there, in front of the one at the back
+    back = (252.0, 100.0, 34.0, 120.0)  # waiting behind the front dancer since its start
+    alone = (520.0, 100.0, 34.0, 120.0)  # waiting behind it too, with nobody else in front of it
+
+    tracker = MultiDancerTracker(frame, [walked, middle, back, alone])
+    front, mid, waiting, lone = tracker.dancers
+    mid.hidden_behind = None  # came out from behind the front dancer earlier: followed on its own
+    waiting.hidden_behind = lone.hidden_behind = front.dancer_id
+    front.box = (430.0, 110.0, 60.0, 180.0)  # taken elsewhere, clear of both
+    tracker._hand_over_waiting(front)
+    assert waiting.hidden_behind == mid.dancer_id
+    assert waiting.wait_offset == pytest.approx(_offset_behind(back, middle))
+    assert lone.hidden_behind == front.dancer_id  # nobody straight in front of it: left as it was
+    assert MultiTrackerConfig().adrift_hands_over_waiting
 
 
 def _red_blue_green_dancers(config=None):

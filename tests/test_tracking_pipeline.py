@@ -101,6 +101,32 @@ def test_track_warns_of_a_dancer_starting_hidden(tmp_path, capsys):
     assert doc["hidden_starts"] == [{"frame": 0, "dancer": 1, "behind": 0}]
 
 
+def test_a_wait_handed_over_to_another_dancer_in_front_is_a_new_hidden_start(tmp_path, monkeypatch):
+    """When the tracker hands a waiting dancer over to another dancer in front
+    (``MultiTrackerConfig.adrift_hands_over_waiting``: the one it waited behind was taken elsewhere), ``hdvr track``
+    records a new hidden start (frame, dancer, new dancer in front), by written ids, which hindsight keeps to as to
+    one from a start. Here the hand-over is forced in frame 4 (the rule's own test is in test_tracking_multi)."""
+    from hdvr.tracking.multi import MultiDancerTracker
+    from hdvr.tracking.pipeline import track_video
+
+    third = FigureSpec((60.0, 120.0), (0.0, 0.0), 140.0, ((40, 160, 40), (200, 200, 200)), depth=2.0)
+    path = tmp_path / "stack.mp4"
+    truth = render_clip(path, frames=8, size=(320, 240), specs=_walker_behind_still() + [third])
+    step = MultiDancerTracker.step
+
+    def step_and_hand_over(self, frame, detections=None, weak_detections=None):
+        result = step(self, frame, detections, weak_detections)
+        if self.frame_index == 4:
+            self.dancers[1].hidden_behind = 2
+        return result
+
+    monkeypatch.setattr(MultiDancerTracker, "step", step_and_hand_over)
+    run = track_video(path, tmp_path / "out", detector=None, boxes=truth.boxes[0], overlay=False)
+    assert run.hidden_starts == [(0, 1, 0), (4, 1, 2)]
+    doc = json.loads((tmp_path / "out" / "tracks.json").read_text())
+    assert doc["hidden_starts"][1] == {"frame": 4, "dancer": 1, "behind": 2}
+
+
 def test_a_dancer_waiting_hidden_keeps_part_of_its_start_offset_in_the_boxes_written(tmp_path):
     """The boxes written for a dancer waiting hidden behind another are the online boxes put through
     ``apply_hindsight`` with the run's hidden starts: moved a quarter of the way back to its start offset from

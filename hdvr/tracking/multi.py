@@ -243,6 +243,11 @@ class MultiTrackerConfig:
     # which was never re-identified; IDF1 0.633 -> 0.723 (seed 308 flamenco 0.883 -> 0.983)
     reid_holder_covered: float = 0.9  # ... and if it spans this much of the width of the holder's body core (the
     # holder is hidden behind it, not beside it; seed 609 ballet, 0.78 of it: 0.940 -> 0.727 with 2 switches)
+    reid_past_waiting: bool = True  # an occluded dancer may be re-identified on a detection that a dancer waiting
+    # behind it since its start (``hidden_behind``) takes, and beside or over such a dancer's body core: that dancer
+    # shows nothing of its own, the person seen there is the one it waits behind (hdvr synth seed 3038 hip-hop: a
+    # dancer occluded in a floor move stood up clear of everyone but the dancer hidden behind her, whose box took her
+    # detection; her box was predicted on for 100 frames)
     own_box_max_shift: float | None = 0.15  # an occluded dancer's own tracker's box (running without learning) is a
     # candidate of re-identification and relocation only if its bottom lies within this x the dancer's box height of
     # the bottom of the dancer's box (held or predicted): a hidden dancer's feet stay on the floor, and a tracker
@@ -382,6 +387,16 @@ class MultiTrackerConfig:
     # Seed 302 flamenco, the person inside the wide box of the dancer she had passed: 0.850 with 4 switches -> 0.922
     # with 2. Session 47, 504 synthetic clips: 3 changed, failing 24 -> 24, mean IDF1 0.9843 -> 0.9849)
     stray_adrift_margin: float = 0.05
+    stray_adrift_height_change: float | None = 1.35  # ... and within this of the tracked dancer's box height (None:
+    # ``reid_height_change``). A dancer whose box was never seen clear has no detection ratio yet, and its box holds
+    # the whole body where the detector draws a little less: hdvr synth seed 3016 ballet, the dancer in front walked
+    # out of a stack of three, her box (220 px) stayed on it, and the person she was (173 px, 1.27 x shorter; colours
+    # 0.90-0.98 against her box's 0.74) was left for 80 frames
+    adrift_hands_over_waiting: bool = True  # ... and the dancers still waiting behind it since their start, left
+    # clear of its new box, wait behind the dancer followed straight in front of them from then on
+    # (:meth:`MultiDancerTracker._hand_over_waiting`; hdvr track starts a new wait there, which hindsight keeps to):
+    # they stood behind the stack its box had stayed on, not behind the dancer who walked out of it (seed 3016
+    # ballet: hindsight took the dancer at the back 35 px along after the one walking out, IoU 0.83 -> 0.04)
     front_of_waiting_clear: bool = True  # a dancer whose body core overlaps only dancers waiting straight behind it
     # since their start (``hidden_start_overlap``) counts as clear: its memory is stored, and its box's height (not
     # its width: the detection may hold their limbs beside it) adapts to the one detection on it. Before, such a
@@ -2151,11 +2166,12 @@ class MultiDancerTracker(ReportedExtent):
             return True
         return abs((own[1] + own[3]) - (d.box[1] + d.box[3])) <= limit * d.box[3]
 
-    def _height_fits(self, d: DancerTrack, detection) -> bool:
+    def _height_fits(self, d: DancerTrack, detection, factor: float | None = None) -> bool:
         """Whether ``detection`` (x, y, w, h px), its bottom made good where a dancer in front hides the legs
-        (:meth:`_feet_hidden`), is within ``reid_height_change`` of occluded dancer ``d``'s box height: a candidate
-        of re-identification and relocation."""
-        return _height_within(self._feet_hidden(d, detection), d.box, self.config.reid_height_change)
+        (:meth:`_feet_hidden`), is within ``factor`` (default ``reid_height_change``) of dancer ``d``'s box height: a
+        candidate of re-identification and relocation."""
+        factor = self.config.reid_height_change if factor is None else factor
+        return _height_within(self._feet_hidden(d, detection), d.box, factor)
 
     def _relocate(self, d: DancerTrack, frame, detections, force: bool, extra=()) -> None:
         """Occluded dancer ``d`` is taken again on the candidate (x, y, w, h px) whose colours match its memory
@@ -2539,13 +2555,14 @@ class MultiDancerTracker(ReportedExtent):
 
         box_rivals: dict[tuple, list[DancerTrack]] = {}
 
-        def clear(box, is_detection: bool) -> bool:
-            # clear of every tracked dancer's body core, or (a detection) of every one that holds a detection of
-            # its own that this one does not mostly overlap (a box around both, or a part of it), or of every one
-            # without a detection whose core it overlaps less than half: then that dancer is one more rival
+        def clear(box, is_detection: bool, waiting=()) -> bool:
+            # clear of every tracked dancer's body core (but those ``waiting`` behind the dancer looked for), or (a
+            # detection) of every one that holds a detection of its own that this one does not mostly overlap (a box
+            # around both, or a part of it), or of every one without a detection whose core it overlaps less than
+            # half: then that dancer is one more rival
             rivals = []
             for o in tracked:
-                if self._bodies_overlap(box, o.box) <= c.overlap_threshold:
+                if self._bodies_overlap(box, o.box) <= c.overlap_threshold or o.dancer_id in waiting:
                     continue
                 if is_detection and handed.get(tuple(box)) is o:
                     rivals.append(o)
@@ -2567,9 +2584,13 @@ class MultiDancerTracker(ReportedExtent):
         candidates = []
         for d, own in zip(occluded, own_boxes):
             radius = d.box[3] * self._reid_radius(d)
-            near = [det for det in free if min(np.linalg.norm(box_centre(det) - d.center),
+            # the dancers waiting behind it show nothing of their own: their detections and cores are its
+            waiting = {o.dancer_id for o in tracked if o.hidden_behind == d.dancer_id} if c.reid_past_waiting \
+                else set()
+            seen = free + [dets[k] for i, k in claims.items() if i in waiting]
+            near = [det for det in seen if min(np.linalg.norm(box_centre(det) - d.center),
                                                np.linalg.norm(box_centre(det) - box_centre(d.stored_box))) <= radius]
-            boxes = [box for box in near if clear(box, True)]
+            boxes = [box for box in near if clear(box, True, waiting)]
             # beside a dancer without a detection, a box of about the dancer's height only (YOLO's box around two
             # figures, or a figure and its shadow, is taller), and not much wider for its height (a part of the
             # dancer without a detection, e.g. its upper body with spread arms)
@@ -2654,11 +2675,32 @@ class MultiDancerTracker(ReportedExtent):
         candidates = []
         for d in [o for o in known if o.status == TRACKED]:
             current = self._memory_match(d, frame)
-            candidates.append((d, [det for det in people if self._height_fits(d, det) and histogram_similarity(
-                histograms[det], d.stored_histogram) >= current + c.stray_adrift_margin]))
+            candidates.append((d, [det for det in people if self._height_fits(d, det, c.stray_adrift_height_change)
+                                   and histogram_similarity(histograms[det], d.stored_histogram)
+                                   >= current + c.stray_adrift_margin]))
         for d, box, score in self._histogram_matches(frame, candidates, known, histograms=histograms):
             self._restart(d, frame, self._feet_hidden(d, box), score)
             self._forget_person(box)
+            if c.adrift_hands_over_waiting:
+                self._hand_over_waiting(d)
+
+    def _hand_over_waiting(self, d: DancerTrack) -> None:
+        """Dancers still waiting behind dancer ``d`` since their start (``hidden_behind``) whose body core
+        no longer overlaps ``d``'s box now that it was taken elsewhere, wait from now on behind the dancer followed
+        that stands straight in front of them (:meth:`_straight_in_front` with ``hidden_start_overlap``; the one
+        whose body core overlaps theirs most), at their offset from it now: ``d``'s box had stayed on that dancer,
+        and so had theirs. One with no such dancer in front is left as it was."""
+        c = self.config
+        for o in self.dancers:
+            if o.hidden_behind != d.dancer_id or o.status == OUT or \
+                    self._bodies_overlap(o.box, d.box) > c.overlap_threshold:
+                continue
+            fronts = [f for f in self.dancers if f is not o and f is not d and f.status == TRACKED
+                      and f.hidden_behind is None and self._straight_in_front(f, o, c.hidden_start_overlap)]
+            if fronts:
+                front = max(fronts, key=lambda f: self._bodies_overlap(f.box, o.box))
+                o.hidden_behind, o.returned_behind = front.dancer_id, False
+                o.wait_offset = _offset_behind(o.box, front.box)
 
     def _search_lost(self, frame) -> None:
         """Dancers occluded for ``lost_search_after`` frames (and, with ``lost_search_out``, those whose prediction

@@ -66,7 +66,8 @@ class TrackRun:
     # and the timeline picture)
     hidden_starts: list = field(default_factory=list)  # (frame, dancer, dancer in front) per dancer whose start box
     # lies mostly behind another dancer's (MultiDancerTracker.hiding_dancer): its colours are not its own; also per
-    # correction that puts a dancer straight behind another (it waits behind it from there)
+    # correction that puts a dancer straight behind another (it waits behind it from there), and per wait the tracker
+    # handed over to another dancer in front (``MultiTrackerConfig.adrift_hands_over_waiting``)
     filled: np.ndarray | None = None  # (T, N) bool: box filled with hindsight
     # (:func:`hdvr.tracking.hindsight.fill_occluded`)
     detections_reused: int = 0  # frames whose people came from the detections cache (track_video's
@@ -461,18 +462,24 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                         people = people + [p for p in finds if not tracker.looks_like_a_followed_dancer(frame, p.box)]
                 stage["detect"] += time.perf_counter() - tic
             tic = time.perf_counter()
-            stepped = None
+            stepped, handed = None, []
             if tracker is None:
                 tracker = MultiDancerTracker(frame, [], config)
             else:
+                fronts = [d.hidden_behind for d in tracker.dancers]
                 stepped = tracker.step(frame, detections=[p.box for p in people] if run_detector else None,
                                        weak_detections=[p.box for p in weak] if run_detector else None)
+                # waits handed over to another dancer in front (the one in front walked out of their stack)
+                handed = [(k, d.hidden_behind) for k, d in enumerate(tracker.dancers[:len(fronts)])
+                          if None not in (d.hidden_behind, fronts[k]) and d.hidden_behind != fronts[k]]
             new_ids = [tracker.add_dancer(frame, s.box, [p.box for p in people] if run_detector else None)
                        for s in starts if s.frame == t]
             for swap in swaps:
                 if swap.frame == t:
                     order[swap.first], order[swap.second] = order[swap.second], order[swap.first]
             written_id = {k: j for j, k in enumerate(order)}
+            for k, front in handed:  # a new wait, which hindsight keeps to as to one from a start
+                hidden_starts.append((t, written_id[k], written_id[front]))
             for k in new_ids:
                 front = tracker.hiding_dancer(k)
                 if front is not None:
