@@ -1710,24 +1710,29 @@ def test_an_occluded_dancer_is_not_taken_again_on_background_nor_predicted_onto_
 
 def test_an_occluded_dancer_unseen_coming_out_stays_where_it_was_hidden_best():
     """A dancer walks behind another and stops there, while its box, predicted with the velocity it had, would
-    come out on the other side onto someone else's colours (a painted figure, so the foreground test does not hold
-    it). With ``hold_uncovered_prediction`` the prediction stops once it would come out from behind the dancer in
-    front, at the middle of the stretch where its path was hidden best (``stopped_behind``), and the cone search looks
-    there (hdvr synth F 2755 ballet: the box ran 110 px on over 90 frames while the dancer stood behind another).
-    A dancer never hidden that well behind the dancer in front is predicted on as before (a couple side by side),
-    and so is one the detector was not finding steadily before it was hidden (``hold_found_streak``: a stick figure
-    YOLO finds now and then), and every dancer when no
-    detector runs (the tracker alone finds a dancer that walked on only on the cone's
-    patches)."""
+    come out on the other side. With ``hold_uncovered_prediction`` the prediction stops once it would come out from
+    behind the dancer in front, at the middle of the stretch where its path was hidden best (``stopped_behind``),
+    and the cone search looks there (hdvr synth F 2755 ballet: the box ran 110 px on over 90 frames while the dancer
+    stood behind another). So it does for a dancer the detector was found steadily on before it was hidden
+    (``hold_found_streak``) wherever it would come out, and, with ``hold_unseen_prediction``, for one found less
+    steadily where the part of its box come out shows the empty floor (hdvr synth seed 3053 ballet), not where it
+    shows someone (a painted figure beside the dancer in front: a stick figure YOLO finds now and then may walk on
+    there unfound). A dancer never hidden that well behind the dancer in front is predicted on as before (a couple
+    side by side), and so is every dancer when no detector runs (the tracker alone finds a dancer that walked on only
+    on the cone's patches)."""
     rng = np.random.default_rng(12)
     front_box, start, figure = (300.0, 180.0, 70.0, 260.0), (200.0, 200.0, 60.0, 200.0), (480.0, 180.0, 70.0, 260.0)
-    frame = _two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170))),
-                                    (figure, ((200, 90, 30), (40, 200, 220)))])
+    colours = ((60, 170, 80), (170, 40, 170)), ((200, 90, 30), (40, 200, 220))
+    frame = _two_colour_frame(rng, [(front_box, colours[0]), (figure, colours[1])])
+    beside = _two_colour_frame(rng, [(front_box, colours[0]), ((372.0, 180.0, 70.0, 260.0), colours[1])])
     red = _two_colour_frame(rng, [(start, ((20, 20, 230), (20, 20, 230)))])
     results = {}
-    for hold, found in ((0.6, True), (0.0, True), (0.6, False)):
-        config = MultiTrackerConfig(hold_uncovered_prediction=hold, relocate_min_similarity=2.0)  # never taken
-        tracker = MultiDancerTracker(frame, [front_box, start], config)
+    cases = ((0.6, True, False, frame), (0.0, True, True, frame), (0.6, False, False, frame),
+             (0.6, False, True, frame), (0.6, False, True, beside))
+    for k, (hold, found, unseen, image) in enumerate(cases):
+        config = MultiTrackerConfig(hold_uncovered_prediction=hold, hold_unseen_prediction=unseen,
+                                    relocate_min_similarity=2.0)  # never taken
+        tracker = MultiDancerTracker(image, [front_box, start], config)
         front, d = tracker.dancers
         d.hidden_behind = None
         d.stored_histogram = colour_histogram(red, start)  # dressed in colours seen nowhere in the frame
@@ -1735,13 +1740,14 @@ def test_an_occluded_dancer_unseen_coming_out_stays_where_it_was_hidden_best():
         d.found_streak = 3 if found else 1  # a person detected on its box on its last 3 clear detector frames
         tracker._occlude(d, [front])
         for _ in range(60):  # at 4 px/frame the prediction is behind the dancer in front from frame 10 to 40
-            tracker.step(frame, detections=[])  # a detector runs, finding no one
-        results[hold, found] = (d.status, d.box, d.stopped_behind)
-    status, box, held = results[0.6, True]
-    assert status == OCCLUDED and held
-    assert abs(box_centre(box)[0] - box_centre(front_box)[0]) < 6  # behind the middle of the dancer in front
-    for off in ((0.0, True), (0.6, False)):  # off, or a dancer the detector was not finding (a stick figure)
-        status, box, held = results[off]
+            tracker.step(image, detections=[])  # a detector runs, finding no one
+        results[k] = (d.status, d.box, d.stopped_behind)
+    for k in 0, 3:  # found steadily; found less so, coming out onto the empty floor
+        status, box, held = results[k]
+        assert status == OCCLUDED and held
+        assert abs(box_centre(box)[0] - box_centre(front_box)[0]) < 6  # behind the middle of the dancer in front
+    for k in 1, 2, 4:  # off; found less steadily without the rule, or coming out onto someone
+        status, box, held = results[k]
         assert status == OCCLUDED and not held and box[0] > 420  # walked on, out from behind the dancer in front
 
     tracker = MultiDancerTracker(frame, [front_box, start], MultiTrackerConfig(hold_uncovered_prediction=0.6))
@@ -2197,6 +2203,23 @@ def test_dancers_waiting_behind_a_dancer_taken_elsewhere_wait_behind_the_dancer_
     assert waiting.wait_offset == pytest.approx(_offset_behind(back, middle))
     assert lone.hidden_behind == front.dancer_id  # nobody straight in front of it: left as it was
     assert MultiTrackerConfig().adrift_hands_over_waiting
+
+
+def test_with_restart_hands_over_waiting_any_restart_elsewhere_hands_the_waits_over():
+    """With ``restart_hands_over_waiting`` every restart of a dancer's tracker on a box elsewhere (a jump to a
+    detection, a box stuck off its dancer, a recovery, a correction: :meth:`MultiDancerTracker._restart`) hands
+    the dancers waiting behind it over as a stray person taking it does; without it (the default) the waits stay."""
+    frame = np.full((480, 640, 3), 90, np.uint8)
+    walked, middle, back = (250.0, 100.0, 60.0, 220.0), (245.0, 110.0, 50.0, 170.0), (252.0, 100.0, 34.0, 120.0)
+    waits = {}
+    for on in (True, False):
+        tracker = MultiDancerTracker(frame, [walked, middle, back], MultiTrackerConfig(restart_hands_over_waiting=on))
+        front, mid, waiting = tracker.dancers
+        mid.hidden_behind, waiting.hidden_behind = None, front.dancer_id
+        tracker._restart(front, frame, (430.0, 110.0, 60.0, 180.0), 0.8)  # its tracker restarted clear of both
+        waits[on] = waiting.hidden_behind
+    assert waits[True] == 1 and waits[False] == 0
+    assert not MultiTrackerConfig().restart_hands_over_waiting
 
 
 def _red_blue_green_dancers(config=None):

@@ -193,6 +193,10 @@ class MultiTrackerConfig:
     # ballet 0.898 -> 1.000, F 2755 0.829 -> 1.000, 2758 0.871 -> 1.000), none newly failing; procedural crossings
     # with the detector switches 12 -> 11, failing 11 -> 11; groups of 6 and 8 as before
     hold_found_streak: int = 3  # ... detector frames in a row, while clear, on which a person lay on its box
+    hold_unseen_prediction: bool = False  # ... or, for a dancer the detector was not finding so steadily, if the
+    # part of its predicted box outside the other dancers' boxes shows no one (``_shows_someone``): the floor or wall
+    # shows where it would have come out (hdvr synth seed 3053 ballet: a dancer walking in a clump, found on one
+    # detector frame in a row, stopped behind another; her box ran on 45 px and stayed half over the empty floor)
     reid_similarity: float = 0.6  # before the predicted end of an overlap, a clear candidate needs this much
     reid_margin: float = 0.2  # ... and this much more than with any other occluded dancer's memory
     reid_radius_growth: float = 0.03  # x box height per frame: the re-identification radius (``2 x
@@ -397,6 +401,9 @@ class MultiTrackerConfig:
     # (:meth:`MultiDancerTracker._hand_over_waiting`; hdvr track starts a new wait there, which hindsight keeps to):
     # they stood behind the stack its box had stayed on, not behind the dancer who walked out of it (seed 3016
     # ballet: hindsight took the dancer at the back 35 px along after the one walking out, IoU 0.83 -> 0.04)
+    restart_hands_over_waiting: bool = False  # so at every restart of a dancer's tracker on another box
+    # (:meth:`MultiDancerTracker._restart`: a jump to a detection, a box stuck off its dancer, a recovery, a
+    # correction), not only the stray person's
     front_of_waiting_clear: bool = True  # a dancer whose body core overlaps only dancers waiting straight behind it
     # since their start (``hidden_start_overlap``) counts as clear: its memory is stored, and its box's height (not
     # its width: the detection may hold their limbs beside it) adapts to the one detection on it. Before, such a
@@ -1241,11 +1248,16 @@ class MultiDancerTracker(ReportedExtent):
             if c.hold_empty_prediction and self._clear_of_others(d, predicted) and \
                     not self._shows_someone(frame, d, [predicted])[0]:
                 continue  # nobody there: the dancer is still behind the others
-            if c.hold_uncovered_prediction > 0 and self.given_detections and d.found_streak >= c.hold_found_streak:
+            found_steadily = self.given_detections and d.found_streak >= c.hold_found_streak
+            if c.hold_uncovered_prediction > 0 and (found_steadily or (c.hold_unseen_prediction and
+                                                                       self.given_detections)):
                 if d.stopped_behind:
                     continue
                 cover = self._covered_fraction(d, predicted)
                 best = max((v for v, _ in d.cover_path), default=0.0)
+                if cover < c.hold_uncovered_prediction <= best and not found_steadily and \
+                        self._shows_someone(frame, d, [predicted])[0]:
+                    d.cover_path, best = [], 0.0  # it comes out where someone shows: predicted on from here
                 if cover < c.hold_uncovered_prediction <= best:
                     # it would come out from behind the dancers in front unseen: it stopped where its predicted
                     # path was hidden best (the middle of the best-hidden stretch)
@@ -1529,6 +1541,8 @@ class MultiDancerTracker(ReportedExtent):
         d.detected_at_edge, d.lost_on_background = None, False
         d.centers, d.clear_track = [d.body_center], []
         d.stored_box, d.stored_frame = d.box, self.frame_index
+        if self.config.restart_hands_over_waiting:
+            self._hand_over_waiting(d)
 
     def _restart_on_stuck(self, d: DancerTrack, frame, detection) -> None:
         """Dancer ``d``, clear of the others, has had ``detection`` (x, y, w, h px), one person alone, on its box for
