@@ -1251,23 +1251,22 @@ class MultiDancerTracker(ReportedExtent):
             if c.hold_empty_prediction and self._clear_of_others(d, predicted) and \
                     not self._shows_someone(frame, d, [predicted])[0]:
                 continue  # nobody there: the dancer is still behind the others
-            found_steadily = self.given_detections and d.found_streak >= c.hold_found_streak
-            if c.hold_uncovered_prediction > 0 and (found_steadily or (c.hold_unseen_prediction and
-                                                                       self.given_detections)):
+            found_steadily = d.found_streak >= c.hold_found_streak
+            if c.hold_uncovered_prediction > 0 and self.given_detections and \
+                    (found_steadily or c.hold_unseen_prediction):
                 if d.stopped_behind:
                     continue
                 cover = self._covered_fraction(d, predicted)
                 best = max((v for v, _ in d.cover_path), default=0.0)
-                if cover < c.hold_uncovered_prediction <= best and not found_steadily and \
-                        self._shows_someone(frame, d, [predicted])[0]:
-                    d.cover_path, best = [], 0.0  # it comes out where someone shows: predicted on from here
                 if cover < c.hold_uncovered_prediction <= best:
-                    # it would come out from behind the dancers in front unseen: it stopped where its predicted
-                    # path was hidden best (the middle of the best-hidden stretch)
-                    hidden = np.array([b for v, b in d.cover_path if v >= best - COVER_TIE], dtype=float)
-                    d.box = tuple(float(v) for v in hidden.mean(axis=0))
-                    d.stopped_behind = True
-                    continue
+                    if found_steadily or not self._shows_someone(frame, d, [predicted])[0]:
+                        # it would come out from behind the dancers in front unseen: it stopped where its predicted
+                        # path was hidden best (the middle of the best-hidden stretch)
+                        hidden = np.array([b for v, b in d.cover_path if v >= best - COVER_TIE], dtype=float)
+                        d.box = tuple(float(v) for v in hidden.mean(axis=0))
+                        d.stopped_behind = True
+                        continue
+                    d.cover_path, best = [], 0.0  # it comes out where someone shows: predicted on from here
                 # only the boxes near the best cover so far are kept (the list stays short however long it hides)
                 if cover >= best - COVER_TIE:
                     d.cover_path = [(v, b) for v, b in d.cover_path if v >= max(best, cover) - COVER_TIE]
