@@ -58,8 +58,10 @@ def test_tracker_config_overrides_take_the_field_types(monkeypatch):
     # a test that may be None takes a number or none; a plain number field does not take none
     assert bench.parse_tracker_config("own_box_max_shift=none").own_box_max_shift is None
     assert bench.parse_tracker_config("own_box_max_shift=0.3").own_box_max_shift == 0.3
+    # a pair of numbers as a:b
+    assert bench.parse_tracker_config("pixel_margin=0.45:0.3").pixel_margin == (0.45, 0.3)
     for bad in ("no_such_rule=1", "reid_from_holder", "reid_from_holder=maybe", "reid_margin=none",
-                "max_occlusion_frames=many"):
+                "max_occlusion_frames=many", "pixel_margin=0.45", "pixel_margin=0.4:0.3:0.2", "pixel_margin=a:b"):
         with pytest.raises(SystemExit, match="--tracker-config"):
             bench.parse_tracker_config(bad)
 

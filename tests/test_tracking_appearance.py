@@ -46,3 +46,25 @@ def test_foreground_mask_marks_colours_rare_outside_the_boxes():
     mask = foreground_mask(frame, [(30, 50, 60, 160)])
     assert mask[70:190, 45:75].mean() > 0.95
     assert mask[:, 200:].mean() < 0.01
+
+
+def test_with_ring_common_a_floor_the_widened_boxes_cover_stays_background_and_an_arm_in_it_does_not():
+    """Where the dancers' widened boxes cover every pixel of the floor's colour, that colour is missing from the
+    background sample and the whole floor would come out as foreground. With ``ring_common`` a colour that fills
+    more than that fraction of the ring between the boxes and the widened boxes is background: the floor is, a
+    thin arm reaching into the ring (a small part of it) is still foreground."""
+    frame = np.zeros((400, 320, 3), np.uint8)
+    frame[:200] = (120, 60, 40)  # wall
+    frame[200:] = (60, 140, 60)  # floor, all of it within the widened boxes below
+    frame[230:370, 40:80] = (0, 0, 220)  # a red figure in the first box
+    frame[230:370, 200:240] = (220, 0, 220)  # a magenta one in the second
+    frame[260:266, 80:130] = (140, 170, 230)  # the first one's arm, out into the ring
+    boxes = [(40, 230, 40, 140), (200, 230, 40, 140)]
+    margin = (1.0, 0.4)  # the widened boxes reach the frame's bottom and sides
+    plain = foreground_mask(frame, boxes, margin=margin)
+    assert plain[380:, :].mean() > 0.95  # without: the floor is foreground
+    mask = foreground_mask(frame, boxes, margin=margin, ring_common=0.02)
+    assert mask[380:, :].mean() < 0.01 and mask[200:, 100:180].mean() < 0.05
+    assert mask[261:265, 82:128].mean() > 0.95  # the arm
+    assert mask[240:360, 45:75].mean() > 0.95 and mask[240:360, 205:235].mean() > 0.95  # the figures
+    assert mask[:150, :].mean() < 0.01  # the wall

@@ -103,7 +103,8 @@ def box_inside(inner, outer) -> float:
 
 def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: float = 1e-4,
                     min_background: float = 0.1, opening: int = 3,
-                    margin_fallbacks: tuple[float, ...] = (0.5, 0.25)) -> np.ndarray | None:
+                    margin_fallbacks: tuple[float, ...] = (0.5, 0.25),
+                    ring_common: float | None = None) -> np.ndarray | None:
     """bool mask (frame height, width) of the pixels whose colour is rare in the background: the background is
     every pixel outside ``boxes`` (x, y, w, h px, NaN rows ignored), each widened by ``margin`` = (sideways, up and
     down) x its height on each side (a dancer's spread arms reach beyond its box); a pixel is foreground when the
@@ -134,6 +135,15 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
         return None
     q = (frame_bgr >> 4).astype(np.uint16)
     index = (q[..., 0] << 8) | (q[..., 1] << 4) | q[..., 2]
-    rare = (np.bincount(index[background], minlength=4096) < rarity * count).astype(np.uint8)
+    rare = np.bincount(index[background], minlength=4096) < rarity * count
+    if ring_common is not None:
+        ring = ~background
+        for box in boxes:
+            r = clip_box(box, (w, h)) if np.isfinite(np.asarray(box, float)).all() else None
+            if r is not None:
+                ring[r[1]:r[3], r[0]:r[2]] = False
+        if ring.any():
+            rare &= np.bincount(index[ring], minlength=4096) < ring_common * int(ring.sum())
+    rare = rare.astype(np.uint8)
     fg = rare[index]
     return cv2.morphologyEx(fg, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_RECT, (opening, opening))) > 0

@@ -627,6 +627,9 @@ class MultiTrackerConfig:
     pixel_opening: int = 3  # px: foreground thinner than this is removed (morphological opening)
     pixel_margin: tuple[float, float] = (0.3, 0.3)  # the background is sampled outside the dancers' boxes widened
     # by this x their height sideways and up and down
+    pixel_ring_common: float | None = None  # ... and a colour this common (fraction of the pixels) in the ring
+    # between the boxes and the widened boxes is background too: the floor where the widened boxes cover all of it
+    # (:func:`hdvr.tracking.appearance.foreground_mask`'s ``ring_common``). None: off
     pixel_max_fill: float = 0.4  # a column more than this full of foreground (of the band's rows) is no arm: a
     # body beside the box, or background whose colour the sample around the dancers lacks; the run stops there
     pixel_full_in_box: bool = True  # ... and where that column lies in the box of a dancer standing level or in
@@ -1757,7 +1760,9 @@ class MultiDancerTracker(ReportedExtent):
         boxes = tuple(d.box for d in self.dancers if d.status != OUT)
         cached = self._foreground_cache  # (frame, boxes, mask): the frame itself is held, so it is that very array
         if cached is None or cached[0] is not frame or cached[1] != boxes:
-            cached = (frame, boxes, foreground_mask(frame, list(boxes), margin=c.pixel_margin, opening=c.pixel_opening))
+            mask = foreground_mask(frame, list(boxes), margin=c.pixel_margin, opening=c.pixel_opening,
+                                   ring_common=c.pixel_ring_common)
+            cached = (frame, boxes, mask)
             self._foreground_cache = cached
         return cached[2]
 
@@ -2252,7 +2257,7 @@ class MultiDancerTracker(ReportedExtent):
             return [True] * len(boxes)
         others = [o.box for o in self.dancers if o is not d and o.status != OUT]
         fg = foreground_mask(frame, others + [d.box] + [tuple(b) for b in boxes], margin=c.pixel_margin,
-                             opening=c.pixel_opening)
+                             opening=c.pixel_opening, ring_common=c.pixel_ring_common)
         size = (frame.shape[1], frame.shape[0])
         others_clipped = [b for b in (clip_box(o, size) for o in others) if b is not None]
         shows = []
