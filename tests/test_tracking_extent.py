@@ -1,6 +1,8 @@
 """Box extent from the poses Algorithm 2* chose (:meth:`MultiDancerTracker.extend_to_poses`): a dancer who spreads
 its arms while overlapping another gets a box that covers them; ambiguous poses change nothing."""
 
+from dataclasses import replace
+
 import cv2
 import pytest
 import numpy as np
@@ -218,14 +220,23 @@ def test_no_pixel_growth_onto_the_arm_of_a_dancer_beside():
 
 def test_no_pixel_growth_onto_a_background_patch_next_to_the_box():
     """A background colour that shows only beside the dancer (inside the margin around its box, so not in the
-    background sample) is foreground too; columns more than ``pixel_max_fill`` foreground stop the run there."""
+    background sample) is foreground, unless it fills more than ``pixel_ring_common`` of the ring about the boxes;
+    either way no run grows onto it: columns more than ``pixel_max_fill`` foreground stop the run there."""
     frame = _arms_scene(60.0)
-    tracker = MultiDancerTracker(frame, [(162.0, 106.0, 76.0, 288.0)])
+    ring = MultiTrackerConfig(pixel_ring_common=0.02)  # the patch background
+    tracker = MultiDancerTracker(frame, [(162.0, 106.0, 76.0, 288.0)], ring)
     frame[100:330, 240:300] = (0, 200, 200)  # e.g. a door or a wall corner right beside the dancer
     for _ in range(4):
         result = tracker.extend_to_poses(frame, [None], [None])
     np.testing.assert_allclose(result.boxes[0], (162.0, 106.0, 76.0, 288.0), atol=1e-6)
-    loose = MultiDancerTracker(_arms_scene(60.0), [(162.0, 106.0, 76.0, 288.0)], MultiTrackerConfig(pixel_max_fill=1.1))
+    no_ring = MultiTrackerConfig()  # the default: the patch foreground, left to the fill rule
+    assert no_ring.pixel_ring_common is None
+    tracker = MultiDancerTracker(_arms_scene(60.0), [(162.0, 106.0, 76.0, 288.0)], no_ring)
+    for _ in range(4):
+        result = tracker.extend_to_poses(frame, [None], [None])
+    np.testing.assert_allclose(result.boxes[0], (162.0, 106.0, 76.0, 288.0), atol=1e-6)
+    loose = MultiDancerTracker(_arms_scene(60.0), [(162.0, 106.0, 76.0, 288.0)],
+                               replace(no_ring, pixel_max_fill=1.1))
     result = loose.extend_to_poses(frame, [None], [None])
     assert result.boxes[0][2] > 76 + 20, result.boxes[0]  # without the rule the box grows onto it
 
