@@ -111,7 +111,9 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
     fraction of background pixels in its colour bin (16 levels per BGR channel) is below ``rarity``. An opening
     (``opening`` x ``opening`` px square) removes thinner specks and lines. Where the widened boxes leave less than
     ``min_background`` of the frame (dancers close to the camera), the margin is scaled by each of
-    ``margin_fallbacks`` in turn; None when even then too little is background to tell. Needs no frame history, so
+    ``margin_fallbacks`` in turn; None when even then too little is background to tell. ``ring_common``: a colour
+    that fills more than this fraction of the ring between the boxes and the widened boxes is background too (the
+    floor, where the widened boxes cover all of it; also a person standing there whom no box holds); None: off. Needs no frame history, so
     it works with a moving camera, as long as the dancers' clothes and skin differ in colour from the floor and
     walls around them.
 
