@@ -113,9 +113,9 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
     ``min_background`` of the frame (dancers close to the camera), the margin is scaled by each of
     ``margin_fallbacks`` in turn; None when even then too little is background to tell. ``ring_common``: a colour
     that fills more than this fraction of the ring between the boxes and the widened boxes is background too (the
-    floor, where the widened boxes cover all of it; also a person standing there whom no box holds); None: off. Needs no frame history, so
-    it works with a moving camera, as long as the dancers' clothes and skin differ in colour from the floor and
-    walls around them.
+    floor, where the widened boxes cover all of it; also a person standing there whom no box holds); None: off.
+    Needs no frame history, so it works with a moving camera, as long as the dancers' clothes and skin differ in
+    colour from the floor and walls around them.
 
     The 4096-bin colour histogram is counted and looked up with numpy (``np.bincount`` and a uint8 table): OpenCV's
     ``calcBackProject`` returned an all-zero image for a normalised 3-D float histogram here (OpenCV 5.0)."""
