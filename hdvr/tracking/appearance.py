@@ -141,7 +141,7 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
     if ring_common is not None:
         ring = ~background
         for box in boxes:
-            r = clip_box(box, (w, h)) if np.isfinite(np.asarray(box, float)).all() else None
+            r = clip_box(box, (w, h))  # None for a NaN row, as above
             if r is not None:
                 ring[r[1]:r[3], r[0]:r[2]] = False
         if ring.any():
