@@ -68,3 +68,21 @@ def test_with_ring_common_a_floor_the_widened_boxes_cover_stays_background_and_a
     assert mask[261:265, 82:128].mean() > 0.95  # the arm
     assert mask[240:360, 45:75].mean() > 0.95 and mask[240:360, 205:235].mean() > 0.95  # the figures
     assert mask[:150, :].mean() < 0.01  # the wall
+
+
+def test_with_ring_common_a_person_beside_a_dancer_stays_foreground():
+    """A colour common in the ring is background only where it shows on both sides of some box (the floor and the
+    wall do): a person no box holds, standing on one side of a dancer inside her widened box, fills as much of the
+    ring as a floor would and stays foreground, and so do legs below a box that holds only the upper body."""
+    frame = np.zeros((400, 320, 3), np.uint8)
+    frame[:200] = (120, 60, 40)  # wall
+    frame[200:] = (60, 140, 60)  # floor, all of it within the widened boxes below
+    frame[230:370, 40:80] = (0, 0, 220)  # a red figure in the first box
+    frame[230:370, 200:240] = (220, 0, 220)  # a magenta one in the second
+    frame[220:370, 100:130] = (0, 200, 230)  # a yellow person beside the first, no one's box
+    boxes = [(40, 230, 40, 140), (200, 230, 40, 140)]
+    mask = foreground_mask(frame, boxes, margin=(1.0, 0.4), ring_common=0.02)
+    assert mask[230:360, 105:125].mean() > 0.95  # the person
+    assert mask[380:, :].mean() < 0.01 and mask[:150, :].mean() < 0.01  # floor and wall
+    upper = foreground_mask(frame, [(40, 230, 40, 60)], margin=(1.0, 2.5), ring_common=0.02)  # rows 80-440
+    assert upper[300:360, 45:75].mean() > 0.95  # the first figure's legs, below her box

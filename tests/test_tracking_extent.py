@@ -220,25 +220,26 @@ def test_no_pixel_growth_onto_the_arm_of_a_dancer_beside():
 
 def test_no_pixel_growth_onto_a_background_patch_next_to_the_box():
     """A background colour that shows only beside the dancer (inside the margin around its box, so not in the
-    background sample) is foreground, unless it fills more than ``pixel_ring_common`` of the ring about the boxes;
-    either way no run grows onto it: columns more than ``pixel_max_fill`` foreground stop the run there."""
+    background sample) and on one side only is foreground (``pixel_ring_common`` takes only colours that show on
+    both sides of some box: a person beside her would); no run grows onto it all the same: columns more than
+    ``pixel_max_fill`` foreground stop the run there. The same colour on both sides is background."""
+    box = (162.0, 106.0, 76.0, 288.0)
     frame = _arms_scene(60.0)
-    ring = MultiTrackerConfig(pixel_ring_common=0.02)  # the patch background
-    tracker = MultiDancerTracker(frame, [(162.0, 106.0, 76.0, 288.0)], ring)
+    config = MultiTrackerConfig()
+    assert config.pixel_ring_common == 0.02  # the default
     frame[100:330, 240:300] = (0, 200, 200)  # e.g. a door or a wall corner right beside the dancer
-    for _ in range(4):
-        result = tracker.extend_to_poses(frame, [None], [None])
-    np.testing.assert_allclose(result.boxes[0], (162.0, 106.0, 76.0, 288.0), atol=1e-6)
-    no_ring = MultiTrackerConfig()  # the default: the patch foreground, left to the fill rule
-    assert no_ring.pixel_ring_common is None
-    tracker = MultiDancerTracker(_arms_scene(60.0), [(162.0, 106.0, 76.0, 288.0)], no_ring)
-    for _ in range(4):
-        result = tracker.extend_to_poses(frame, [None], [None])
-    np.testing.assert_allclose(result.boxes[0], (162.0, 106.0, 76.0, 288.0), atol=1e-6)
-    loose = MultiDancerTracker(_arms_scene(60.0), [(162.0, 106.0, 76.0, 288.0)],
-                               replace(no_ring, pixel_max_fill=1.1))
+    for ring in (config, replace(config, pixel_ring_common=None)):
+        tracker = MultiDancerTracker(_arms_scene(60.0), [box], ring)
+        for _ in range(4):
+            result = tracker.extend_to_poses(frame, [None], [None])
+        np.testing.assert_allclose(result.boxes[0], box, atol=1e-6)
+    loose = MultiDancerTracker(_arms_scene(60.0), [box], replace(config, pixel_max_fill=1.1))
     result = loose.extend_to_poses(frame, [None], [None])
     assert result.boxes[0][2] > 76 + 20, result.boxes[0]  # without the rule the box grows onto it
+    frame[100:330, 90:150] = (0, 200, 200)  # the same colour on her left: a wall's, background with the ring
+    loose = MultiDancerTracker(_arms_scene(60.0), [box], replace(config, pixel_max_fill=1.1))
+    result = loose.extend_to_poses(frame, [None], [None])
+    assert result.boxes[0][2] < 76 + 20, result.boxes[0]
 
 
 def test_no_pixel_growth_across_an_arm_to_the_body_of_a_dancer_beside():

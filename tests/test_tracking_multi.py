@@ -373,6 +373,33 @@ def test_detection_cut_by_a_dancer_in_front_keeps_the_hidden_feet():
     assert bottom(on.dancers[0].box) == pytest.approx(300.0) and off.dancers[0].box[3] == pytest.approx(150.0)
 
 
+def test_detection_cut_sideways_by_a_dancer_in_front_keeps_the_hidden_side():
+    """A partner behind the dancer in front shows only the part beside him: a detection narrower than her box whose
+    side ends on his body keeps her box's width from the side seen (``keep_hidden_sides``; both sides on him: centred
+    on it); one that ends clear of him, or a dancer standing behind her, is taken as is."""
+    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    behind, front = (260.0, 100.0, 110.0, 200.0), (300.0, 180.0, 120.0, 260.0)  # front's feet lower in the image
+    config = MultiTrackerConfig(keep_hidden_sides=True)
+    tracker = MultiDancerTracker(frame, [behind, front], config)
+    d = tracker.dancers[0]
+    cut = (262.0, 102.0, 60.0, 180.0)  # right side at x 322, on the front dancer's body
+    assert tracker._sides_hidden(d, cut) == pytest.approx((262.0, 102.0, 110.0, 180.0))
+    assert tracker._hidden_parts(d, cut) == pytest.approx((262.0, 102.0, 110.0, 198.0))  # and the feet
+    cut_left = (330.0, 102.0, 50.0, 180.0)  # left side at x 330 on him, right side at 380 as well: centred
+    assert tracker._sides_hidden(d, cut_left) == pytest.approx((300.0, 102.0, 110.0, 180.0))
+    clear = (200.0, 102.0, 60.0, 180.0)  # ends at x 260, clear of him
+    assert tracker._sides_hidden(d, clear) == clear
+    tracker.dancers[1].box = (300.0, 120.0, 120.0, 170.0)  # now he stands behind her (feet higher): not hidden by him
+    assert tracker._sides_hidden(d, cut) == cut
+    off = MultiDancerTracker(frame, [behind, front])  # the default: off
+    assert not off.config.keep_hidden_sides and off._sides_hidden(off.dancers[0], cut) == cut
+    on = MultiDancerTracker(frame, [behind, front], config)
+    on.dancers[0].size_ratio, on.dancers[0].ratio_aspect = np.array([1.1, 1.0]), None  # box 1.1 x its detection
+    for _ in range(3):  # adapting again and again keeps the width: the ratio is not applied on top of it each time
+        on._adapt_box(on.dancers[0], frame, cut, weight=1.0, retrack=False)
+    assert on.dancers[0].box[2] == pytest.approx(110.0)
+
+
 def test_detection_that_leaves_out_legs_in_foreground_ends_where_they_end():
     """The detector may leave out legs whose colours it does not take for a person (yellow chequered trousers):
     a clear dancer's detection that ends above foreground running on down in its columns ends where that

@@ -112,8 +112,10 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
     (``opening`` x ``opening`` px square) removes thinner specks and lines. Where the widened boxes leave less than
     ``min_background`` of the frame (dancers close to the camera), the margin is scaled by each of
     ``margin_fallbacks`` in turn; None when even then too little is background to tell. ``ring_common``: a colour
-    that fills more than this fraction of the ring between the boxes and the widened boxes is background too (the
-    floor, where the widened boxes cover all of it; also a person standing there whom no box holds); None: off.
+    that fills more than this fraction of the ring between the boxes and the widened boxes, and of the ring on both
+    sides of some box (left and right of it within its widened box), is background too: the floor where the widened
+    boxes cover all of it shows on both sides of a dancer, a person whom no box holds, standing beside her, on one
+    side only (:func:`_spread`); None: off.
     Needs no frame history, so it works with a moving camera, as long as the dancers' clothes and skin differ in
     colour from the floor and walls around them.
 
@@ -122,6 +124,7 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
     h, w = frame_bgr.shape[:2]
     for shrink in (1.0, *margin_fallbacks):
         background = np.ones((h, w), bool)
+        widened = []  # (box, widened box) as clip_box's (x0, y0, x1, y1), for the ring's sides
         for box in boxes:
             x, y, bw, bh = (float(v) for v in box)
             if not np.isfinite([x, y, bw, bh]).all():
@@ -130,6 +133,7 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
             r = clip_box((x - mx, y - my, bw + 2 * mx, bh + 2 * my), (w, h))
             if r is not None:
                 background[r[1]:r[3], r[0]:r[2]] = False
+                widened.append((clip_box(box, (w, h)), r))
         count = int(background.sum())
         if count >= min_background * h * w:
             break
@@ -140,12 +144,33 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
     rare = np.bincount(index[background], minlength=4096) < rarity * count
     if ring_common is not None:
         ring = ~background
-        for box in boxes:
-            r = clip_box(box, (w, h))  # None for a NaN row, as above
-            if r is not None:
-                ring[r[1]:r[3], r[0]:r[2]] = False
+        for inner, _ in widened:
+            if inner is not None:
+                ring[inner[1]:inner[3], inner[0]:inner[2]] = False
         if ring.any():
-            rare &= np.bincount(index[ring], minlength=4096) < ring_common * int(ring.sum())
+            rare &= ~(_common(index, ring, ring_common) & _spread(index, ring, widened, ring_common))
     rare = rare.astype(np.uint8)
     fg = rare[index]
     return cv2.morphologyEx(fg, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_RECT, (opening, opening))) > 0
+
+
+def _common(index: np.ndarray, where: np.ndarray, fraction: float) -> np.ndarray:
+    """(4096,) bool: the colour bins (``index``, per pixel) that fill more than ``fraction`` of the pixels
+    ``where`` is True (all False where it is nowhere True)."""
+    n = int(where.sum())
+    return np.bincount(index[where], minlength=4096) > fraction * n if n else np.zeros(4096, bool)
+
+
+def _spread(index: np.ndarray, ring: np.ndarray, widened, fraction: float) -> np.ndarray:
+    """(4096,) bool: the colour bins that fill more than ``fraction`` of the ring's pixels on both sides of some
+    box, left of it and right of it within its widened box (``widened``: (box, widened box) pairs of
+    :func:`clip_box` corners). The floor and the wall show on both sides of a dancer; a person standing beside
+    her, or her legs below a box of her upper body, on one side or under it only."""
+    spread = np.zeros(4096, bool)
+    for inner, outer in widened:
+        if inner is None:
+            continue
+        rows = slice(outer[1], outer[3])
+        sides = [(index[rows, a:b], ring[rows, a:b]) for a, b in ((outer[0], inner[0]), (inner[2], outer[2]))]
+        spread |= _common(*sides[0], fraction) & _common(*sides[1], fraction)
+    return spread

@@ -481,6 +481,10 @@ class MultiTrackerConfig:
     # dancer at the back of hdvr synth seed 406 ballet jumped onto a lost dancer passing in front (2 switches)
     keep_hidden_feet: bool = True  # a detection ending on the body of a dancer in front keeps the box's bottom
     # when the box adapts to it (:meth:`MultiDancerTracker._feet_hidden`)
+    keep_hidden_sides: bool = False  # ... and a detection narrower than the box whose side ends on the body of a
+    # dancer in front keeps the box's width, from its other side (:meth:`MultiDancerTracker._sides_hidden`): a
+    # partner in hold behind the dancer in front shows her head and one shoulder (hdvr synth seed 2951 tango: the
+    # box of the dancer behind took a detection 67 px wide, 0.53 of her width, for the whole clip)
     foreground_feet: float | None = 0.6  # a clear dancer's detection whose bottom ends above foreground that runs
     # on down in its columns (legs the detector left out: patterned trousers) ends where that run ends, at most
     # this x the detection's height lower, or down to the box's bottom (None: off;
@@ -627,14 +631,14 @@ class MultiTrackerConfig:
     pixel_opening: int = 3  # px: foreground thinner than this is removed (morphological opening)
     pixel_margin: tuple[float, float] = (0.3, 0.3)  # the background is sampled outside the dancers' boxes widened
     # by this x their height sideways and up and down
-    pixel_ring_common: float | None = None  # ... and a colour this common (fraction of the pixels) in the ring
-    # between the boxes and the widened boxes is background too: the floor where the widened boxes cover all of it
-    # (:func:`hdvr.tracking.appearance.foreground_mask`'s ``ring_common``; an arm out into the ring is a small part
-    # of it). None: off. Session 78, 0.02: seed 2984 hip-hop 37 % of a frame foreground without it, 19 % with it,
-    # 0.883 -> 0.997; over 1,397 hdvr synth clips 49 -> 48 failing, 3 clips up, 1 down by 0.002. Off: a person that
-    # no one follows standing beside a dancer fills as much of that dancer's ring and would count as background too
-    # (``_shows_someone`` then sees the empty floor there), and two tests of the foreground feet and of the stop
-    # over the empty floor fail with it; not settled this session. At margin 0.45 (a spread arm's reach): 49 -> 50
+    pixel_ring_common: float | None = 0.02  # ... and a colour this common (fraction of the pixels) in the ring
+    # between the boxes and the widened boxes, and in the ring on both sides of some box, is background too: the
+    # floor where the widened boxes cover all of it (:func:`hdvr.tracking.appearance.foreground_mask`'s
+    # ``ring_common``; an arm out into the ring is a small part of it, a person no one follows standing beside a
+    # dancer shows on one side only). None: off. Seed 2984 hip-hop: 37 % of a frame foreground without it, 19 % with
+    # it, 0.883 -> 0.997. Over 1,397 hdvr synth clips 49 -> 48 failing, 4 clips up, 1 down by 0.002 (session 79; in
+    # session 78 the same without the both-sides test, left off for the person beside). At margin 0.45 (a spread
+    # arm's reach): 49 -> 50 (docs/benchmarks.md "Session 78")
     pixel_max_fill: float = 0.4  # a column more than this full of foreground (of the band's rows) is no arm: a
     # body beside the box, or background whose colour the sample around the dancers lacks; the run stops there
     pixel_full_in_box: bool = True  # ... and where that column lies in the box of a dancer standing level or in
@@ -1814,7 +1818,7 @@ class MultiDancerTracker(ReportedExtent):
         ``box_adaptation``)."""
         c = self.config
         a = c.box_adaptation if weight is None else weight
-        detection = self._feet_hidden(d, detection)
+        detection = self._hidden_parts(d, detection, as_detection=True)
         detection = self._feet_in_foreground(d, frame, detection)
         centre = np.asarray(d.tracker.center, float)
         detected = np.array(detection[2:], float)
@@ -1867,6 +1871,44 @@ class MultiDancerTracker(ReportedExtent):
             if stands_in_front(o.box, d.box, c.pixel_front) and ox <= cx <= ox + ow and oy <= bottom <= oy + oh:
                 return (x, y, w, box_bottom - y)
         return detection
+
+    def _sides_hidden(self, d: DancerTrack, detection, as_detection: bool = False):
+        """``detection`` (x, y, w, h px) of dancer ``d``, widened to the width of ``d``'s box when it is narrower
+        and a side of it ends on the body of a dancer standing in front of ``d`` (:func:`stands_in_front` with
+        ``pixel_front``; that side inside its box's columns, the detection's middle row inside its rows): the
+        detector sees only the part beside him, and the amodal box keeps the part behind. The other side stays
+        where it was seen; when both sides end on dancers in front, the box is centred on the detection.
+        ``as_detection``: widened instead to the detection width that :meth:`_box_size` turns into the box's width
+        (for :meth:`_adapt_box`, which applies the dancer's box-to-detection ratio; the box would otherwise grow by
+        that ratio at every adaptation). Unchanged with ``keep_hidden_sides`` off."""
+        c = self.config
+        x, y, w, h = (float(v) for v in detection)
+        width = float(d.box[2])
+        if as_detection and d.size_ratio is not None:
+            if c.width_margin and d.ratio_aspect is not None:
+                width -= (d.size_ratio[0] - 1.0) * d.ratio_aspect * h
+            else:
+                width /= d.size_ratio[0]
+        if not c.keep_hidden_sides or not w < width:
+            return detection
+        middle = y + h / 2
+        fronts = [o.box for o in self.dancers if o is not d and o.status != OUT and
+                  stands_in_front(o.box, d.box, c.pixel_front) and o.box[1] <= middle <= o.box[1] + o.box[3]]
+        def on_front(edge: float) -> bool:
+            return any(ox < edge < ox + ow for ox, _, ow, _ in fronts)
+        left, right = on_front(x), on_front(x + w)
+        if left and right:
+            return (x + w / 2 - width / 2, y, width, h)
+        if right:
+            return (x, y, width, h)
+        if left:
+            return (x + w - width, y, width, h)
+        return detection
+
+    def _hidden_parts(self, d: DancerTrack, detection, as_detection: bool = False):
+        """``detection`` with the parts a dancer in front hides made good: :meth:`_sides_hidden` (with
+        ``as_detection``), then :meth:`_feet_hidden`."""
+        return self._feet_hidden(d, self._sides_hidden(d, detection, as_detection))
 
     def _feet_in_foreground(self, d: DancerTrack, frame, detection):
         """``detection`` (x, y, w, h px) of clear dancer ``d``, with its bottom moved down to where the foreground
@@ -2283,7 +2325,7 @@ class MultiDancerTracker(ReportedExtent):
         ``seen_part``: ``box`` is a detection, showing only what is not hidden (:meth:`_feet_hidden`); False for
         a patch of the dancer's own box size (``feet_of_detections_only``)."""
         if seen_part or not self.config.feet_of_detections_only:
-            box = self._feet_hidden(d, box)
+            box = self._hidden_parts(d, box)
         d.tracker.center = (box[0] + box[2] / 2, box[1] + box[3] / 2)
         d.offset = np.zeros(2)
         d.box = tuple(float(v) for v in box)
@@ -2705,7 +2747,7 @@ class MultiDancerTracker(ReportedExtent):
                                    and histogram_similarity(histograms[det], d.stored_histogram)
                                    >= current + c.stray_adrift_margin]))
         for d, box, score in self._histogram_matches(frame, candidates, known, histograms=histograms):
-            self._restart(d, frame, self._feet_hidden(d, box), score)
+            self._restart(d, frame, self._hidden_parts(d, box), score)
             self._forget_person(box)
             if c.adrift_hands_over_waiting:
                 self._hand_over_waiting(d)
