@@ -1884,6 +1884,8 @@ class MultiDancerTracker(ReportedExtent):
         (for :meth:`_adapt_box`, which applies the dancer's box-to-detection ratio; the box would otherwise grow by
         that ratio at every adaptation). Unchanged with ``keep_hidden_sides`` off."""
         c = self.config
+        if not c.keep_hidden_sides:
+            return detection
         x, y, w, h = (float(v) for v in detection)
         width = float(d.box[2])
         if as_detection and d.size_ratio is not None:
@@ -1891,14 +1893,12 @@ class MultiDancerTracker(ReportedExtent):
                 width -= (d.size_ratio[0] - 1.0) * d.ratio_aspect * h
             else:
                 width /= d.size_ratio[0]
-        if not c.keep_hidden_sides or not w < width:
+        if not w < width:
             return detection
         middle = y + h / 2
-        fronts = [o.box for o in self.dancers if o is not d and o.status != OUT and
-                  stands_in_front(o.box, d.box, c.pixel_front) and o.box[1] <= middle <= o.box[1] + o.box[3]]
-        def on_front(edge: float) -> bool:
-            return any(ox < edge < ox + ow for ox, _, ow, _ in fronts)
-        left, right = on_front(x), on_front(x + w)
+        columns = [(o.box[0], o.box[0] + o.box[2]) for o in self.dancers if o is not d and o.status != OUT and
+                   stands_in_front(o.box, d.box, c.pixel_front) and o.box[1] <= middle <= o.box[1] + o.box[3]]
+        left, right = (any(x0 < edge < x1 for x0, x1 in columns) for edge in (x, x + w))
         if left and right:
             return (x + w / 2 - width / 2, y, width, h)
         if right:
