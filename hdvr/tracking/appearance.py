@@ -124,7 +124,7 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
     h, w = frame_bgr.shape[:2]
     for shrink in (1.0, *margin_fallbacks):
         background = np.ones((h, w), bool)
-        widened = []  # (box, widened box) as clip_box's (x0, y0, x1, y1), for the ring's sides
+        widened = []  # (box, widened box as clip_box's (x0, y0, x1, y1)), for the ring's sides
         for box in boxes:
             x, y, bw, bh = (float(v) for v in box)
             if not np.isfinite([x, y, bw, bh]).all():
@@ -133,7 +133,7 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
             r = clip_box((x - mx, y - my, bw + 2 * mx, bh + 2 * my), (w, h))
             if r is not None:
                 background[r[1]:r[3], r[0]:r[2]] = False
-                widened.append((clip_box(box, (w, h)), r))
+                widened.append((box, r))
         count = int(background.sum())
         if count >= min_background * h * w:
             break
@@ -144,11 +144,12 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
     rare = np.bincount(index[background], minlength=4096) < rarity * count
     if ring_common is not None:
         ring = ~background
-        for inner, _ in widened:
+        corners = [(clip_box(box, (w, h)), outer) for box, outer in widened]
+        for inner, _ in corners:
             if inner is not None:
                 ring[inner[1]:inner[3], inner[0]:inner[2]] = False
         if ring.any():
-            rare &= ~(_common(index, ring, ring_common) & _spread(index, ring, widened, ring_common))
+            rare &= ~(_common(index, ring, ring_common) & _spread(index, ring, corners, ring_common))
     rare = rare.astype(np.uint8)
     fg = rare[index]
     return cv2.morphologyEx(fg, cv2.MORPH_OPEN, cv2.getStructuringElement(cv2.MORPH_RECT, (opening, opening))) > 0

@@ -1880,19 +1880,17 @@ class MultiDancerTracker(ReportedExtent):
         ``pixel_front``; that side inside its box's columns, the detection's middle row inside its rows): the
         detector sees only the part beside him, and the amodal box keeps the part behind. The other side stays
         where it was seen; when both sides end on dancers in front, the box is centred on the detection.
-        ``as_detection``: widened instead to the detection width that :meth:`_box_size` turns into the box's width
-        (for :meth:`_adapt_box`, which applies the dancer's box-to-detection ratio; the box would otherwise grow by
-        that ratio at every adaptation). Unchanged with ``keep_hidden_sides`` off."""
+        ``as_detection``: widened instead to the detection width that :meth:`_box_size` (not cut by the frame's
+        edge) turns into the box's width (for :meth:`_adapt_box`, which applies the dancer's box-to-detection ratio;
+        the box would otherwise grow by that ratio at every adaptation). Unchanged with ``keep_hidden_sides`` off."""
         c = self.config
         if not c.keep_hidden_sides:
             return detection
         x, y, w, h = (float(v) for v in detection)
         width = float(d.box[2])
-        if as_detection and d.size_ratio is not None:
-            if c.width_margin and d.ratio_aspect is not None:
-                width -= (d.size_ratio[0] - 1.0) * d.ratio_aspect * h
-            else:
-                width /= d.size_ratio[0]
+        if as_detection:  # invert _box_size, linear in the detection's width: box width = slope x width + offset
+            offset = self._box_size(d, (0.0, h))[0]
+            width = (width - offset) / (self._box_size(d, (1.0, h))[0] - offset)
         if not w < width:
             return detection
         middle = y + h / 2
