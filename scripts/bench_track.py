@@ -418,7 +418,8 @@ def tracker_field_may_be_none(name: str) -> bool:
 def parse_tracker_config(text: str) -> MultiTrackerConfig:
     """MultiTrackerConfig with the fields named in ``text`` ("name=value,name=value") changed; a value takes the
     type of the field's default (booleans: true/false/1/0; a pair of numbers, such as ``pixel_margin``, as
-    "a:b"); a field that may be None (a test that can be switched off) also takes none."""
+    "a:b"; a mode, such as ``keep_hidden_sides``, as its name); a field that may be None (a test that can be
+    switched off) also takes none."""
     config = MultiTrackerConfig()
     changes = {}
     for item in filter(None, (v.strip() for v in text.split(","))):
@@ -438,6 +439,8 @@ def parse_tracker_config(text: str) -> MultiTrackerConfig:
                 changes[name] = float(value) if default is None else type(default)(value)
             except ValueError:
                 raise SystemExit(f"bench_track: --tracker-config: {name} takes a number, got {value!r}") from None
+        elif isinstance(default, str):  # a mode, such as ``keep_hidden_sides``
+            changes[name] = value
         elif isinstance(default, tuple) and all(isinstance(v, (int, float)) for v in default):
             try:
                 numbers = tuple(type(d)(v) for d, v in zip(default, value.split(":"), strict=True))
@@ -447,7 +450,10 @@ def parse_tracker_config(text: str) -> MultiTrackerConfig:
             changes[name] = numbers
         else:
             raise SystemExit(f"bench_track: --tracker-config: {name} cannot be set from the command line")
-    return dataclasses.replace(config, **changes)
+    try:
+        return dataclasses.replace(config, **changes)
+    except ValueError as error:  # a mode not known
+        raise SystemExit(f"bench_track: --tracker-config: {error}") from None
 
 
 def synth_section(model, tmp, seconds: float = 4.0, seeds=(7,), thresholds=(0.3, 0.15),

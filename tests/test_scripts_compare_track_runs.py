@@ -60,8 +60,11 @@ def test_tracker_config_overrides_take_the_field_types(monkeypatch):
     assert bench.parse_tracker_config("own_box_max_shift=0.3").own_box_max_shift == 0.3
     # a pair of numbers as a:b
     assert bench.parse_tracker_config("pixel_margin=0.45:0.3").pixel_margin == (0.45, 0.3)
+    # a mode by its name, one the config knows
+    assert bench.parse_tracker_config("keep_hidden_sides=written").keep_hidden_sides == "written"
     for bad in ("no_such_rule=1", "reid_from_holder", "reid_from_holder=maybe", "reid_margin=none",
-                "max_occlusion_frames=many", "pixel_margin=0.45", "pixel_margin=0.4:0.3:0.2", "pixel_margin=a:b"):
+                "max_occlusion_frames=many", "pixel_margin=0.45", "pixel_margin=0.4:0.3:0.2", "pixel_margin=a:b",
+                "keep_hidden_sides=true"):
         with pytest.raises(SystemExit, match="--tracker-config"):
             bench.parse_tracker_config(bad)
 

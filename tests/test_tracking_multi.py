@@ -375,11 +375,11 @@ def test_detection_cut_by_a_dancer_in_front_keeps_the_hidden_feet():
 
 def test_detection_cut_sideways_by_a_dancer_in_front_keeps_the_hidden_side():
     """A partner behind the dancer in front shows only the part beside him: a detection narrower than her box whose
-    side ends on his body keeps her box's width from the side seen (``keep_hidden_sides``; both sides on him: centred
-    on it); one that ends clear of him, or a dancer standing behind her, is taken as is."""
+    side ends on his body keeps her box's width from the side seen (``keep_hidden_sides`` "tracked"; both sides on
+    him: centred on it); one that ends clear of him, or a dancer standing behind her, is taken as is."""
     frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
     behind, front = (260.0, 100.0, 110.0, 200.0), (300.0, 180.0, 120.0, 260.0)  # front's feet lower in the image
-    config = MultiTrackerConfig(keep_hidden_sides=True)
+    config = MultiTrackerConfig(keep_hidden_sides="tracked")
     tracker = MultiDancerTracker(frame, [behind, front], config)
     d = tracker.dancers[0]
     cut = (262.0, 102.0, 60.0, 180.0)  # right side at x 322, on the front dancer's body
@@ -392,12 +392,43 @@ def test_detection_cut_sideways_by_a_dancer_in_front_keeps_the_hidden_side():
     tracker.dancers[1].box = (300.0, 120.0, 120.0, 170.0)  # now he stands behind her (feet higher): not hidden by him
     assert tracker._sides_hidden(d, cut) == cut
     off = MultiDancerTracker(frame, [behind, front])  # the default: off
-    assert not off.config.keep_hidden_sides and off._sides_hidden(off.dancers[0], cut) == cut
+    assert off.config.keep_hidden_sides == "off" and off._sides_hidden(off.dancers[0], cut) == cut
     on = MultiDancerTracker(frame, [behind, front], config)
     on.dancers[0].size_ratio, on.dancers[0].ratio_aspect = np.array([1.1, 1.0]), None  # box 1.1 x its detection
     for _ in range(3):  # adapting again and again keeps the width: the ratio is not applied on top of it each time
         on._adapt_box(on.dancers[0], frame, cut, weight=1.0, retrack=False)
     assert on.dancers[0].box[2] == pytest.approx(110.0)
+
+
+def test_written_hidden_sides_widen_only_the_written_box():
+    """With ``keep_hidden_sides`` "written" the tracked box of the partner behind follows the part seen beside the
+    dancer in front, and only her written box reaches back behind him to the width she had (as an aspect of her
+    height); a detection no longer cut, or the dancer in front gone from her box, ends it."""
+    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    behind, front = (260.0, 100.0, 110.0, 200.0), (300.0, 180.0, 120.0, 260.0)  # front's feet lower in the image
+    tracker = MultiDancerTracker(frame, [behind, front], MultiTrackerConfig(keep_hidden_sides="written"))
+    d = tracker.dancers[0]
+    d.size_ratio, d.ratio_aspect = np.array([1.0, 1.0]), None
+    cut = (262.0, 102.0, 60.0, 180.0)  # right side at x 322, on the front dancer's body
+    tracker._adapt_box(d, frame, cut, weight=1.0, retrack=False)
+    assert d.box[2] == pytest.approx(60.0) and d.box[3] == pytest.approx(180.0)  # tracked: the part seen
+    assert d.hidden_aspect == pytest.approx(110.0 / 200.0) and d.hidden_sides == (False, True)
+    assert tracker._hidden_sides_reach(d) == pytest.approx([0.0, 0.0, 0.55 * 180.0 - 60.0, 0.0])
+    written = tracker.extend_to_poses(frame, [None, None], [0.0, 0.0]).boxes[0]
+    assert written[0] == pytest.approx(d.box[0]) and written[2] >= 0.55 * 180.0 - 1e-6  # reaches right, behind him
+    assert MultiDancerTracker(frame, [behind, front]).result().boxes[0][2] == pytest.approx(110.0)
+    tracker._adapt_box(d, frame, cut, weight=1.0, retrack=False)  # cut again: narrower than the noted width still
+    assert d.hidden_sides == (False, True) and d.hidden_aspect == pytest.approx(0.55)
+    clear = (200.0, 102.0, 60.0, 180.0)  # ends at x 260, clear of him: the note is gone
+    tracker._adapt_box(d, frame, clear, weight=1.0, retrack=False)
+    assert d.hidden_aspect is None and not any(tracker._hidden_sides_reach(d))
+    d.box = behind  # her arms out again, then cut once more
+    tracker._adapt_box(d, frame, cut, weight=1.0, retrack=False)
+    assert d.hidden_aspect is not None
+    tracker.dancers[1].box = (500.0, 180.0, 120.0, 260.0)  # he steps off her box: nothing of her is hidden any more
+    assert not any(tracker._hidden_sides_reach(d)) and d.hidden_aspect is None
+    with pytest.raises(ValueError, match="keep_hidden_sides"):
+        MultiTrackerConfig(keep_hidden_sides="yes")
 
 
 def test_detection_that_leaves_out_legs_in_foreground_ends_where_they_end():

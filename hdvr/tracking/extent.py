@@ -12,7 +12,7 @@ never uses these extents.
 
 :class:`ReportedExtent` is a mixin of :class:`hdvr.tracking.multi.MultiDancerTracker`; it reads the tracker's
 ``config`` (:class:`hdvr.tracking.multi.MultiTrackerConfig`: the ``pose_*``, ``pixel_*``, ``stacked_*``,
-``front_extent``, ``grabcut_*`` and ``hold_hidden_extent`` fields), ``dancers``
+``front_extent``, ``grabcut_*``, ``hold_hidden_extent`` and ``keep_hidden_sides`` fields), ``dancers``
 (:class:`hdvr.tracking.state.DancerTrack`, whose ``growth`` it sets), ``frame_index``, ``result()`` and the body-core
 geometry ``_core``, ``_bodies_overlap``, ``_overlapping``, ``_fit_score`` and ``_foreground``.
 
@@ -121,7 +121,31 @@ class ReportedExtent:
                 target = np.maximum(target, held)  # nothing can show its limbs are in: they stay out
             rate = np.where(target >= d.growth, a, a * (c.group_shrink if self._overlapping(i, boxes) else 1.0))
             d.growth = (1 - rate) * d.growth + rate * target
+            if c.keep_hidden_sides == "written":
+                d.growth = np.maximum(d.growth, self._hidden_sides_reach(d))
         return self.result()
+
+    def _hidden_sides_reach(self, d: DancerTrack) -> np.ndarray:
+        """How far (px; left, top, right, bottom) dancer ``d``'s written box reaches beyond its tracked box behind the
+        dancer in front that cut its detections (``keep_hidden_sides`` "written",
+        :meth:`hdvr.tracking.multi.MultiDancerTracker._note_hidden_sides`): to the noted aspect x its height, on the
+        side cut (half on each when both were). Zero, and the note cleared, once the box so reached overlaps no
+        other dancer's reported box (whether he still stands in front is not asked again: a waiting dancer's box
+        keeps the height it had, and its bottom may come level with his)."""
+        reach = np.zeros(4)
+        if d.hidden_aspect is None:
+            return reach
+        extra = max(0.0, d.hidden_aspect * d.box[3] - d.box[2])
+        left, right = d.hidden_sides
+        reach[0] = extra / 2 if left and right else extra if left else 0.0
+        reach[2] = extra / 2 if left and right else extra if right else 0.0
+        x, y, w, h = d.box
+        reached = (x - reach[0], y, w + reach[0] + reach[2], h)
+        if not any(o is not d and o.status != OUT and box_overlap(self._reported(o), reached) > 0
+                   for o in self.dancers):
+            d.hidden_aspect, d.hidden_sides = None, (False, False)
+            return np.zeros(4)
+        return reach
 
     def _covered_reach(self, d: DancerTrack) -> np.ndarray:
         """How far (px) the reported boxes of the other dancers overlapping dancer ``d``'s tracked box reach beyond

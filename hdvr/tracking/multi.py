@@ -72,6 +72,9 @@ HISTOGRAM_END_SHRINK = 0.15
 COVER_TIE = 0.05
 
 
+HIDDEN_SIDES_MODES = ("off", "tracked", "written")  # ``MultiTrackerConfig.keep_hidden_sides``
+
+
 @dataclass(frozen=True)
 class MultiTrackerConfig:
     """Parameters of Algorithm 1* (defaults tuned on the procedural crossing clips)."""
@@ -481,12 +484,15 @@ class MultiTrackerConfig:
     # dancer at the back of hdvr synth seed 406 ballet jumped onto a lost dancer passing in front (2 switches)
     keep_hidden_feet: bool = True  # a detection ending on the body of a dancer in front keeps the box's bottom
     # when the box adapts to it (:meth:`MultiDancerTracker._feet_hidden`)
-    keep_hidden_sides: bool = False  # ... and a detection narrower than the box whose side ends on the body of a
-    # dancer in front keeps the box's width, from its other side (:meth:`MultiDancerTracker._sides_hidden`): a
-    # partner in hold behind the dancer in front shows her head and one shoulder (hdvr synth seed 2951 tango: the
-    # box of the dancer behind took a detection 67 px wide, 0.53 of her width, for the whole clip: 0.721 -> 1.000).
-    # Off: over 1,397 hdvr synth clips 48 -> 49 failing, 5 mended and 6 broken; the wider box overlaps the dancer
-    # in front and the tracker then holds the partner as occluded (seed 2921 tango 1.000 -> 0.688; session 79)
+    keep_hidden_sides: str = "off"  # ... and a detection narrower than the box whose side ends on the body of a
+    # dancer in front keeps the box's width, from its other side: a partner in hold behind the dancer in front shows
+    # her head and one shoulder (hdvr synth seed 2951 tango: the box of the dancer behind took a detection 67 px
+    # wide, 0.53 of her width, for the whole clip). "tracked": the tracked box keeps it
+    # (:meth:`MultiDancerTracker._sides_hidden`; over 1,397 hdvr synth clips 48 -> 49 failing, 5 mended and 6 broken:
+    # the wider box overlaps the dancer in front and the tracker then holds the partner as occluded, seed 2921 tango
+    # 1.000 -> 0.688; session 79). "written": only the written box does, the tracked box follows the part seen
+    # (:meth:`MultiDancerTracker._note_hidden_sides`, :meth:`ReportedExtent._hidden_sides_reach`; session 80).
+    # "off": neither
     foreground_feet: float | None = 0.6  # a clear dancer's detection whose bottom ends above foreground that runs
     # on down in its columns (legs the detector left out: patterned trousers) ends where that run ends, at most
     # this x the detection's height lower, or down to the box's bottom (None: off;
@@ -700,6 +706,11 @@ class MultiTrackerConfig:
     exit_max_foreground: float = 0.2  # ... when at most this fraction of its box's columns hold foreground
     exit_edge_px: float = 2.0  # px: a detection this close to the frame's side is cut by it
     learn_inside: float = 0.9  # the tracker learns only while at least this fraction of its box is in the frame
+
+    def __post_init__(self) -> None:
+        if self.keep_hidden_sides not in HIDDEN_SIDES_MODES:
+            raise ValueError(f"keep_hidden_sides must be one of {', '.join(HIDDEN_SIDES_MODES)}, "
+                             f"got {self.keep_hidden_sides!r}")
 
 
 def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
@@ -1555,6 +1566,7 @@ class MultiDancerTracker(ReportedExtent):
         d.tracker.init(frame, self._core(box))
         d.box, d.missed, d.confidence = tuple(float(v) for v in box), 0, float(np.clip(score, 0, 1))
         d.detected_at_edge, d.lost_on_background = None, False
+        d.hidden_aspect, d.hidden_sides = None, (False, False)
         d.centers, d.clear_track = [d.body_center], []
         d.stored_box, d.stored_frame = d.box, self.frame_index
         if self.config.restart_hands_over_waiting:
@@ -1820,6 +1832,7 @@ class MultiDancerTracker(ReportedExtent):
         ``box_adaptation``)."""
         c = self.config
         a = c.box_adaptation if weight is None else weight
+        self._note_hidden_sides(d, detection)
         detection = self._hidden_parts(d, detection, as_detection=True)
         detection = self._feet_in_foreground(d, frame, detection)
         centre = np.asarray(d.tracker.center, float)
@@ -1876,15 +1889,14 @@ class MultiDancerTracker(ReportedExtent):
 
     def _sides_hidden(self, d: DancerTrack, detection, as_detection: bool = False):
         """``detection`` (x, y, w, h px) of dancer ``d``, widened to the width of ``d``'s box when it is narrower
-        and a side of it ends on the body of a dancer standing in front of ``d`` (:func:`stands_in_front` with
-        ``pixel_front``; that side inside its box's columns, the detection's middle row inside its rows): the
+        and a side of it ends on the body of a dancer standing in front of ``d`` (:meth:`_front_cut_sides`): the
         detector sees only the part beside him, and the amodal box keeps the part behind. The other side stays
         where it was seen; when both sides end on dancers in front, the box is centred on the detection.
         ``as_detection``: widened instead to the detection width that :meth:`_box_size` (not cut by the frame's
         edge) turns into the box's width (for :meth:`_adapt_box`, which applies the dancer's box-to-detection ratio;
-        the box would otherwise grow by that ratio at every adaptation). Unchanged with ``keep_hidden_sides`` off."""
-        c = self.config
-        if not c.keep_hidden_sides:
+        the box would otherwise grow by that ratio at every adaptation). Unchanged unless ``keep_hidden_sides`` is
+        "tracked"."""
+        if self.config.keep_hidden_sides != "tracked":
             return detection
         x, y, w, h = (float(v) for v in detection)
         width = float(d.box[2])
@@ -1893,10 +1905,7 @@ class MultiDancerTracker(ReportedExtent):
             width = (width - offset) / (self._box_size(d, (1.0, h))[0] - offset)
         if not w < width:
             return detection
-        middle = y + h / 2
-        columns = [(o.box[0], o.box[0] + o.box[2]) for o in self.dancers if o is not d and o.status != OUT and
-                   stands_in_front(o.box, d.box, c.pixel_front) and o.box[1] <= middle <= o.box[1] + o.box[3]]
-        left, right = (any(x0 < edge < x1 for x0, x1 in columns) for edge in (x, x + w))
+        left, right = self._front_cut_sides(d, detection)
         if left and right:
             return (x + w / 2 - width / 2, y, width, h)
         if right:
@@ -1904,6 +1913,37 @@ class MultiDancerTracker(ReportedExtent):
         if left:
             return (x + w - width, y, width, h)
         return detection
+
+    def _front_cut_sides(self, d: DancerTrack, detection) -> tuple[bool, bool]:
+        """Whether the left and the right side of ``detection`` (x, y, w, h px) of dancer ``d`` end on the body of a
+        dancer standing in front of ``d`` (:func:`stands_in_front` with ``pixel_front``): that side inside his box's
+        columns, the detection's middle row inside his rows."""
+        x, y, w, h = (float(v) for v in detection)
+        middle = y + h / 2
+        columns = [(o.box[0], o.box[0] + o.box[2]) for o in self.dancers if o is not d and o.status != OUT and
+                   stands_in_front(o.box, d.box, self.config.pixel_front) and o.box[1] <= middle <= o.box[1] + o.box[3]]
+        return tuple(any(x0 < edge < x1 for x0, x1 in columns) for edge in (x, x + w))
+
+    def _note_hidden_sides(self, d: DancerTrack, detection, as_box: bool = False) -> None:
+        """With ``keep_hidden_sides`` "written", note on dancer ``d`` (before its box adapts to, or is taken at,
+        ``detection``, x, y, w, h px) which sides of the detection end on a dancer in front (:meth:`_front_cut_sides`)
+        when the box it makes (:meth:`_box_size`; ``as_box``: the detection itself, as :meth:`_take` takes it) is
+        narrower than ``d``'s box, or than the width noted at the first such cut; the width is noted as an aspect
+        (width / height of the box then) so that it follows the box's height. A detection not cut so, or as wide,
+        clears the note. The written box then reaches that width behind the dancer in front
+        (:meth:`ReportedExtent._hidden_sides_reach`); the tracked box follows the part seen."""
+        if self.config.keep_hidden_sides != "written":
+            return
+        x, y, w, h = (float(v) for v in detection)
+        width = d.hidden_aspect * d.box[3] if d.hidden_aspect is not None else float(d.box[2])
+        made = w if as_box else self._box_size(d, (w, h))[0]
+        sides = self._front_cut_sides(d, detection) if made < width else (False, False)
+        if not any(sides):
+            d.hidden_aspect, d.hidden_sides = None, (False, False)
+            return
+        if d.hidden_aspect is None:
+            d.hidden_aspect = float(d.box[2]) / float(d.box[3])
+        d.hidden_sides = sides
 
     def _hidden_parts(self, d: DancerTrack, detection, as_detection: bool = False):
         """``detection`` with the parts a dancer in front hides made good: :meth:`_sides_hidden` (with
@@ -2324,6 +2364,8 @@ class MultiDancerTracker(ReportedExtent):
         """Dancer ``d`` is seen again at ``box`` (histogram similarity ``score``): tracking resumes there.
         ``seen_part``: ``box`` is a detection, showing only what is not hidden (:meth:`_feet_hidden`); False for
         a patch of the dancer's own box size (``feet_of_detections_only``)."""
+        if seen_part:
+            self._note_hidden_sides(d, box, as_box=True)
         if seen_part or not self.config.feet_of_detections_only:
             box = self._hidden_parts(d, box)
         d.tracker.center = (box[0] + box[2] / 2, box[1] + box[3] / 2)

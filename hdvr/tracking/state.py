@@ -48,6 +48,9 @@ class DancerTrack:
     exit_side: str | None = None  # "left" or "right": the frame edge the dancer left by (None: another or none)
     growth: np.ndarray = field(default_factory=lambda: np.zeros(4))  # px the reported box extends beyond ``box``
     # on the left, top, right and bottom (:meth:`hdvr.tracking.extent.ReportedExtent.extend_to_poses`)
+    hidden_aspect: float | None = None  # width / height of its box when a detection on it first ended, on a side, on
+    # a dancer in front (``MultiTrackerConfig.keep_hidden_sides`` "written"); None when the last one did not
+    hidden_sides: tuple[bool, bool] = (False, False)  # which sides (left, right) of that detection did
     last_status: str = TRACKED  # status in the frame before
     adapted_at: int = -1  # last frame in which the box adapted to a detection while clear
     stuck: int = 0  # detector frames in a row in which the one person on its clear box was too far off to adapt it
