@@ -391,8 +391,8 @@ def test_detection_cut_sideways_by_a_dancer_in_front_keeps_the_hidden_side():
     assert tracker._sides_hidden(d, clear) == clear
     tracker.dancers[1].box = (300.0, 120.0, 120.0, 170.0)  # now he stands behind her (feet higher): not hidden by him
     assert tracker._sides_hidden(d, cut) == cut
-    off = MultiDancerTracker(frame, [behind, front])  # the default: off
-    assert off.config.keep_hidden_sides == "off" and off._sides_hidden(off.dancers[0], cut) == cut
+    off = MultiDancerTracker(frame, [behind, front])  # the default, "written", leaves the tracked box alone
+    assert off.config.keep_hidden_sides == "written" and off._sides_hidden(off.dancers[0], cut) == cut
     on = MultiDancerTracker(frame, [behind, front], config)
     on.dancers[0].size_ratio, on.dancers[0].ratio_aspect = np.array([1.1, 1.0]), None  # box 1.1 x its detection
     for _ in range(3):  # adapting again and again keeps the width: the ratio is not applied on top of it each time
@@ -417,6 +417,10 @@ def test_written_hidden_sides_widen_only_the_written_box():
     written = tracker.extend_to_poses(frame, [None, None], [0.0, 0.0]).boxes[0]
     assert written[0] == pytest.approx(d.box[0]) and written[2] >= 0.55 * 180.0 - 1e-6  # reaches right, behind him
     assert MultiDancerTracker(frame, [behind, front]).result().boxes[0][2] == pytest.approx(110.0)
+    off = MultiDancerTracker(frame, [behind, front], MultiTrackerConfig(keep_hidden_sides="off"))
+    off.dancers[0].size_ratio, off.dancers[0].ratio_aspect = np.array([1.0, 1.0]), None
+    off._adapt_box(off.dancers[0], frame, cut, weight=1.0, retrack=False)
+    assert off.dancers[0].hidden_aspect is None and not any(off._hidden_sides_reach(off.dancers[0]))
     tracker._adapt_box(d, frame, cut, weight=1.0, retrack=False)  # cut again: narrower than the noted width still
     assert d.hidden_sides == (False, True) and d.hidden_aspect == pytest.approx(0.55)
     clear = (200.0, 102.0, 60.0, 180.0)  # ends at x 260, clear of him: the note is gone
