@@ -12,7 +12,9 @@ the dancers' keypoints before the smoothing (right), for those of ``HEAD_REACH``
 (left) and after (right) a dancer waiting hidden behind another is moved towards her start offset, as written, for
 those of ``AMODAL`` one with the boxes written without (left) and with (right) the learned whole-body refiner, for
 those of ``DEPTH`` one with the boxes written without (left) and with (right) a waiting dancer's box scaled with her
-feet against the horizon (``HindsightSettings.scale_with_depth``), and
+feet against the horizon (``HindsightSettings.scale_with_depth``), for those of ``PARTNER`` one with the boxes
+written without (left) and with (right) a couple's hidden partner carried with the dancer in front
+(``HindsightSettings.follow_partner``), and
 for those of ``CORRECTION`` one with the boxes as tracked (left) and after the first correction of the simulated user
 of ``scripts/bench_corrections.py`` (right), at the frame after it where the corrected dancer's box gains most, and
 for those of ``PROCEDURAL_HOLD`` a procedural crossing clip of ``bench_track.py --sections identity`` with a figure
@@ -129,6 +131,11 @@ AMODAL = (
 DEPTH = (
     (2960, 0, "tango", 2, 64, "tracking_depth_scale_s2960_tango_064.jpg"),
 )
+#: (seed, clip index, genre, dancers, frame, picture name): a frame where a couple's partner waiting hidden behind the
+#: dancer in front has opened her arms with his (``follow_partner``; session 81, a clip of the fresh set F)
+PARTNER = (
+    (3049, 0, "tango", 2, 100, "tracking_partner_in_hold_s3049_tango_100.jpg"),
+)
 #: (seed, clip index, genre, dancers, frame, picture name): a frame where a dancer in plain view that the whole
 #: frame's detection misses (a leg kicked high) gets its pose from a crop about it (``zoom_unposed``; session 53)
 UNPOSED = (
@@ -152,6 +159,8 @@ HINDSIGHT_SETTING_PICTURES = (
     ("amodal", AMODAL, "amodal_boxes", ("--no-amodal-boxes", "whole-body boxes (as written)"), "the amodal refiner"),
     ("depth", DEPTH, "scale_with_depth",
      ("her start size (scale_with_depth off)", "scaled with her feet (as written)"), "scale_with_depth"),
+    ("partner", PARTNER, "follow_partner",
+     ("her own box (follow_partner off)", "carried with his (as written)"), "follow_partner"),
 )
 COLOURS = [(0, 0, 255), (0, 190, 0), (255, 60, 0), (0, 200, 220)]  # BGR
 
@@ -315,7 +324,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
-                                           "amodal", "depth", "unposed", "correction", "timeline", "evaluation",
+                                           "amodal", "depth", "partner", "unposed", "correction", "timeline",
+                                           "evaluation",
                                            "procedural-hold", "procedural-trim", "procedural-lost",
                                            "procedural-vertical", "procedural-vertical-cap"),
                         default=None,
@@ -323,6 +333,7 @@ def main(argv=None) -> int:
                              "of boxes widened to the keypoints, the ones of boxes lowered to a full pose's head or "
                              "the ones of a hidden dancer moved towards her start offset, the one of the learned "
                              "whole-body (amodal) boxes, the one of a waiting dancer scaled with her feet, the one "
+                             "of a couple's hidden partner carried with the dancer in front, the one "
                              "of a dancer's pose found zoomed in, the one of a "
                              "correction, or "
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "

@@ -41,7 +41,7 @@ from hdvr.tracking.amodal import (AmodalBoxRefiner, amodal_features, edge_target
 from hdvr.tracking.evaluation import evaluate_tracking  # noqa: E402
 from hdvr.tracking.hindsight import HindsightSettings, apply_hindsight  # noqa: E402
 
-UNREFINED = HindsightSettings(amodal_boxes=False)
+UNREFINED = HindsightSettings(amodal_boxes=False, follow_partner=False)  # the boxes the refiner is given
 
 
 class Clip(NamedTuple):

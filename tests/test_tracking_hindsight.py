@@ -6,7 +6,8 @@ import pytest
 
 from hdvr.tracking.hindsight import (HIDDEN_FEET_TOLERANCE, HIDDEN_FILL_WEIGHT, HOLD_WEIGHT, MIN_SEEN_AFTER,
                                      START_OFFSET_WEIGHT, START_PLACE_WEIGHT, HindsightSettings, apply_hindsight,
-                                     enclose_keypoints, fill_hidden_until_seen, fill_occluded, hold_last_seen,
+                                     enclose_keypoints, fill_hidden_until_seen, fill_occluded,
+                                     follow_partner_in_hold, hold_last_seen,
                                      interpolate_boxes, keep_feet_behind_front, keep_start_offset, keep_start_place,
                                      occluded_stretches, scale_with_depth, smooth_boxes, start_feet, start_offsets,
                                      trim_above_pose)
@@ -737,3 +738,59 @@ def test_apply_hindsight_scales_a_waiting_dancer_with_the_horizon_the_seen_dance
     error_off, error = np.abs(off[:, 1, 3] - truth[:, 3]), np.abs(scaled[:, 1, 3] - truth[:, 3])
     assert error_off.max() > 30.0 and error.max() < 0.1 * error_off.max()
     np.testing.assert_array_equal(scaled[:, 0], off[:, 0])
+
+
+def _couple_in_hold(frames: int = 10):
+    """A couple: (frames, 2, 4) px boxes of the dancer in front (0: coming nearer and spreading his arms, 4 px
+    taller and 10 px wider a frame) and of his partner waiting hidden behind him (1: her start box, held by her own
+    tracker), their (frames, 2) status, and BODY_25 keypoints: his 17 COCO-17 joints seen (confidence 0.9) but on
+    frame 5, none of hers but 5 on frame 7."""
+    t = np.arange(frames, dtype=float)
+    front = np.stack([100 - 5 * t, 50 - 2 * t, 60 + 10 * t, 200 + 4 * t], axis=1)
+    behind = np.tile([120.0, 80.0, 40.0, 160.0], (frames, 1))
+    status = [("tracked", "hidden")] * frames
+    keypoints = np.zeros((frames, 2, 25, 3))
+    keypoints[..., :2] = 150.0
+    keypoints[:, 0, :19, 2] = 0.9  # the 15 body joints and the 4 ears and eyes of BODY_25: all of COCO-17
+    keypoints[5, 0, :, 2] = 0.0
+    keypoints[7, 1, :5, 2] = 0.9
+    return np.stack([front, behind], axis=1), status, keypoints
+
+
+def test_a_couple_s_hidden_partner_is_carried_with_the_dancer_in_front():
+    """Her box is his box mapped as his start box maps onto hers: frame 4, his box (80, 42, 100, 216), 1.08 his
+    start height: height 160 x 1.08, width 100 x 0.8 (her start height over his), centre 10 px right of his and
+    bottom 10 px above his, each x 1.08. Frames where his whole pose is not seen (5) or hers is (7) keep her box, and
+    so do his boxes, other dancers' and the frames where she is seen."""
+    boxes, status, keypoints = _couple_in_hold()
+    carried = follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints)
+    np.testing.assert_allclose(carried[4, 1], [100.8, 74.4, 80.0, 172.8])
+    np.testing.assert_allclose(carried[0, 1], [116.0, 80.0, 48.0, 160.0])  # her start box, at his width x 0.8
+    np.testing.assert_array_equal(carried[[5, 7], 1], boxes[[5, 7], 1])
+    np.testing.assert_array_equal(carried[:, 0], boxes[:, 0])
+    assert carried[9, 1, 2] > 1.5 * boxes[9, 1, 2]  # her arms spread with his
+    seen = [("tracked", "hidden")] * 3 + [("tracked", "tracked")] * 7
+    np.testing.assert_array_equal(follow_partner_in_hold(boxes, seen, [(0, 1, 0)], keypoints)[3:], boxes[3:])
+    np.testing.assert_array_equal(follow_partner_in_hold(boxes, status, [], keypoints), boxes)
+
+
+def test_only_a_couple_s_hidden_partner_is_carried():
+    """With a third dancer (a group: the dancer in front spreads his arms on his own) nothing changes."""
+    boxes, status, keypoints = _couple_in_hold()
+    trio = np.concatenate([boxes, boxes[:, :1] + [300, 0, 0, 0]], axis=1)
+    trio_keypoints = np.concatenate([keypoints, keypoints[:, :1]], axis=1)
+    trio_status = [row + ("tracked",) for row in status]
+    np.testing.assert_array_equal(follow_partner_in_hold(trio, trio_status, [(0, 1, 0)], trio_keypoints), trio)
+    with pytest.raises(ValueError, match="front_joints"):
+        follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints, front_joints=0)
+
+
+def test_apply_hindsight_carries_a_couple_s_hidden_partner_last():
+    """``HindsightSettings.follow_partner`` (on by default) ends ``apply_hindsight`` with
+    :func:`follow_partner_in_hold` on the boxes of its other steps; off, her box is those steps' alone."""
+    boxes, status, keypoints = _couple_in_hold()
+    off = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)],
+                          settings=HindsightSettings(follow_partner=False))[0]
+    on = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)])[0]
+    np.testing.assert_allclose(on, follow_partner_in_hold(off, status, [(0, 1, 0)], keypoints))
+    assert np.abs(on[:, 1] - off[:, 1]).max() > 10.0

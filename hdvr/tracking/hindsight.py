@@ -3,7 +3,7 @@ boxes widened to their keypoints (and lowered where they reach far above a full 
 the box of a dancer waiting hidden behind another kept partly at its start offset from that dancer, its feet near
 where the front dancer's say they are and its size following its feet.
 
-Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so ten offline steps can use the
+Algorithm 1* runs online, but ``hdvr track`` writes its outputs only at the end, so eleven offline steps can use the
 frames after each one, as offline multi-object trackers do (ByteTrack's and StrongSORT's linear interpolation of the
 missing frames of a track, StrongSORT's smoothing of the boxes):
 
@@ -119,10 +119,26 @@ down; 2633 hip-hop 0.800 with 2 switches -> 0.994 with none); weights 0.35 and 0
 (seeds 2641-2680) it loses a little: 8 -> 8 failing, 1 clip up, 5 down (one of them a clip whose tracks were already
 swapped); over all 984 clips failing 41 -> 38 (docs/benchmarks.md "session 50").
 
-Last, :func:`hdvr.tracking.amodal.refine_boxes` moves the box of each dancer seen to the whole (amodal) body that a
+Then :func:`hdvr.tracking.amodal.refine_boxes` moves the box of each dancer seen to the whole (amodal) body that a
 small network learned from hdvr synth clips predicts from the box, its keypoints and the other dancers' boxes
 (``HindsightSettings.amodal_boxes``; session 52: on clips it was not trained on, 15 + 9 + 5 -> 13 + 6 + 5 failing
 over three sets, HOTA up 0.04 on each; docs/tracking.md "Whole-body boxes").
+
+Last, :func:`follow_partner_in_hold`: in a video of two dancers, a partner waiting hidden behind the other since her
+start dances in hold with him (tango, swing, salsa): as the couple comes nearer she grows with him, and as he opens
+his arms so does she, while her own tracker keeps her start size and the steps above move only her place and
+scale her with her feet. So on each frame where she waits, his pose shows at least ``PARTNER_FRONT_JOINTS`` (13) of
+the 17 COCO-17 joints (his box, refined, is then his whole body) and hers shows fewer than ``MIN_KEYPOINTS`` (her
+own pose, when the detector finds it, is better evidence), her box is his box mapped as his start box mapped onto
+hers: her height and her offsets from his centre and bottom scaled with his height, her width his width times her
+start height over his. In a group the dancer in front spreads his arms on his own (session 79: a waiting dancer's
+width following the front dancer's in every clip, 49 -> 63 failing). Session 81, on 1,171 hdvr synth clips tracked
+by session 80's code: 35 -> 30 failing, 7 mended (3049 tango 0.704 -> 0.975, 3064 tango 0.642 -> 0.938, 3007 tango
+0.604 -> 1.000, 2938 swing 0.600 -> 1.000, 2721 swing, 3062 tango, 3024 tango) and 2 broken, where his box itself
+misses his spread arms or his height (3063 swing 0.988 -> 0.979 with a switch, 2950 tango 0.958 -> 0.921 with a
+switch); 12 joints gave the same, 14 one fewer mended and one fewer broken, 15 (``MIN_FULL_POSE``: his face is mostly
+turned from the camera, 3 of its 5 points unseen) left most frames as they were, 35 -> 36 (docs/benchmarks.md
+"Session 81").
 
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
@@ -166,6 +182,10 @@ MIN_KEYPOINT_CONFIDENCE = 0.3
 MIN_KEYPOINTS = 5
 #: of the 17 COCO-17 joints, how many a pose must show (confidence ``MIN_KEYPOINT_CONFIDENCE``) to lower a box's top
 MIN_FULL_POSE = 15
+#: of the 17 COCO-17 joints, how many the dancer in front must show for a couple's hidden partner to follow his box
+#: (:func:`follow_partner_in_hold`; session 81: 12 and 13 gave 30 failing clips of 1,171, 14 30 as well with one
+#: fewer mended and one fewer broken, 15 36, none 31; docs/benchmarks.md "Session 81")
+PARTNER_FRONT_JOINTS = 13
 #: how far (in box heights) above or below its box a keypoint may lie for the pose to count as the dancer's
 POSE_HEIGHT_MARGIN = 0.1
 #: how far a dancer reaches above its highest keypoint (the top of the head above the face keypoints, the fingers
@@ -645,6 +665,42 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
     return out
 
 
+def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: np.ndarray,
+                           min_confidence: float = MIN_KEYPOINT_CONFIDENCE, front_joints: int = PARTNER_FRONT_JOINTS,
+                           own_keypoints: int = MIN_KEYPOINTS) -> np.ndarray:
+    """``boxes`` (T, N, 4) px of a video of exactly two dancers (N == 2: a couple) with the box of a dancer who waits
+    hidden behind the other since its start (``hidden_starts``: (frame, dancer, dancer in front) triples) carried
+    along with his (module docstring): on each frame where it waits (status ``hidden``), the dancer in front shows at
+    least ``front_joints`` of the 17 COCO-17 joints and the waiting dancer fewer than ``own_keypoints`` of its own
+    (BODY_25 ``keypoints`` (T, N, 25, 3): x px, y px, confidence; confidence ``min_confidence`` or more), its box is
+    his box mapped as his box at its start mapped onto its start box: its height his height times its start height
+    over his start height, its width his width times that same ratio, its centre and bottom at their start offsets
+    from his centre and bottom, scaled by his height over his start height. Other frames, clips of any other number
+    of dancers and the input are not changed."""
+    boxes, status = _checked(boxes, status, front_joints=front_joints, own_keypoints=own_keypoints)
+    keypoints = _checked_keypoints(keypoints, boxes)
+    out = boxes.copy()
+    if boxes.shape[1] != 2:
+        return out
+    joints = keypoints[:, :, _FULL_POSE]
+    front_seen = ((joints[..., 2] >= min_confidence) & np.isfinite(joints[..., :2]).all(axis=-1)).sum(axis=-1)
+    own_seen = ((keypoints[..., 2] >= min_confidence) & np.isfinite(keypoints[..., :2]).all(axis=-1)).sum(axis=-1)
+    for first, dancer, front in hidden_starts:
+        his_start, own_start = boxes[first, front], boxes[first, dancer]
+        if not (np.isfinite(his_start).all() and np.isfinite(own_start).all() and his_start[3] > 0):
+            continue
+        frames = _waiting_frames(boxes, status, dancer, front, first, _wait_end(status, dancer, first))
+        frames = frames[(front_seen[frames, front] >= front_joints) & (own_seen[frames, dancer] < own_keypoints)]
+        his = boxes[frames, front]
+        scale = his[:, 3] / his_start[3]
+        centre = his[:, 0] + his[:, 2] / 2 + (own_start[0] + own_start[2] / 2 - his_start[0] - his_start[2] / 2) * scale
+        bottom = his[:, 1] + his[:, 3] + (own_start[1] + own_start[3] - his_start[1] - his_start[3]) * scale
+        height = own_start[3] * scale
+        width = his[:, 2] * own_start[3] / his_start[3]
+        out[frames, dancer] = np.stack([centre - width / 2, bottom - height, width, height], axis=1)
+    return out
+
+
 @dataclass(frozen=True)
 class HindsightSettings:
     """The settings of :func:`apply_hindsight`'s steps, the module's defaults unless given (for measuring others on runs
@@ -659,8 +715,9 @@ class HindsightSettings:
     boxes (:func:`keep_start_place`'s ``returned``). ``scale_with_depth``: scale waiting
     dancers' boxes with their feet (:func:`scale_with_depth`), with a horizon fitted only where some dancer's feet range
     over ``horizon_min_spread`` of its height, and ``depth_stature_factor`` its check of the waiting dancer's start
-    against the horizon. ``amodal_boxes``: end with :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at
-    ``amodal_weights`` ("": the shipped ones)."""
+    against the horizon. ``amodal_boxes``: :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at
+    ``amodal_weights`` ("": the shipped ones). ``follow_partner``: end with :func:`follow_partner_in_hold`, its
+    ``front_joints`` ``partner_front_joints``."""
 
     min_seen_after: int = MIN_SEEN_AFTER
     keypoint_reach: float = KEYPOINT_REACH
@@ -680,6 +737,8 @@ class HindsightSettings:
     scale_with_depth: bool = True
     horizon_min_spread: float = HORIZON_MIN_SPREAD
     depth_stature_factor: float = DEPTH_STATURE_FACTOR
+    follow_partner: bool = True
+    partner_front_joints: int = PARTNER_FRONT_JOINTS
 
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
@@ -693,8 +752,9 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     :func:`keep_start_offset` (with the start offsets of the online boxes), :func:`keep_feet_behind_front` (with
     their start feet), :func:`scale_with_depth` (against the horizon and the height ratio that the boxes of the
     dancers seen show by then: :func:`hdvr.tracking.ground.fit_horizon`, :func:`hdvr.tracking.ground.height_ratio`),
-    :func:`fill_hidden_until_seen`, :func:`keep_start_place` (towards the online start boxes) and
-    :func:`hdvr.tracking.amodal.refine_boxes` (seen dancers' boxes to their whole body), in that order, with
+    :func:`fill_hidden_until_seen`, :func:`keep_start_place` (towards the online start boxes),
+    :func:`hdvr.tracking.amodal.refine_boxes` (seen dancers' boxes to their whole body) and
+    :func:`follow_partner_in_hold` (a couple's hidden partner carried with the dancer in front), in that order, with
     ``settings`` (default: :class:`HindsightSettings`, the module's); ``stopped_behind``: optional (T, N) bool, the
     frames in which the online tracker had stopped a dancer behind the dancers in front (``TrackRun.stopped_behind``);
     ``returned_behind``: optional (T, N) bool, the frames by which it had put a waiting dancer back behind the dancer
@@ -721,4 +781,6 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
                              returned=returned_behind if s.keep_returned else None)
     if s.amodal_boxes:
         boxes = refine_boxes(boxes, status, keypoints, weights=s.amodal_weights)
+    if s.follow_partner:
+        boxes = follow_partner_in_hold(boxes, status, hidden_starts, keypoints, front_joints=s.partner_front_joints)
     return boxes, filled
