@@ -132,7 +132,7 @@ the 17 COCO-17 joints (his box, refined, is then his whole body) and hers shows 
 own pose, when the detector finds it, is better evidence), her box is his box mapped as his start box mapped onto
 hers: her height and her offsets from his centre and bottom scaled with his height, her width his width times her
 start height over his. In a group the dancer in front spreads his arms on his own (session 79: a waiting dancer's
-width following the front dancer's in every clip, 49 -> 63 failing). Session 81, on 1,171 hdvr synth clips tracked
+width following the front dancer's in every clip, 49 -> 63 failing). Session 81, on 1,141 hdvr synth clips tracked
 by session 80's code: 35 -> 30 failing, 7 mended (3049 tango 0.704 -> 0.975, 3064 tango 0.642 -> 0.938, 3007 tango
 0.604 -> 1.000, 2938 swing 0.600 -> 1.000, 2721 swing, 3062 tango, 3024 tango) and 2 broken, where his box itself
 misses his spread arms or his height (3063 swing 0.988 -> 0.979 with a switch, 2950 tango 0.958 -> 0.921 with a
@@ -183,8 +183,9 @@ MIN_KEYPOINTS = 5
 #: of the 17 COCO-17 joints, how many a pose must show (confidence ``MIN_KEYPOINT_CONFIDENCE``) to lower a box's top
 MIN_FULL_POSE = 15
 #: of the 17 COCO-17 joints, how many the dancer in front must show for a couple's hidden partner to follow his box
-#: (:func:`follow_partner_in_hold`; session 81: 12 and 13 gave 30 failing clips of 1,171, 14 30 as well with one
-#: fewer mended and one fewer broken, 15 36, none 31; docs/benchmarks.md "Session 81")
+#: (:func:`follow_partner_in_hold`; session 81: 12 and 13 gave 30 failing clips of 1,141, 35 without the step; 14
+#: 30 as well, with one fewer mended and one fewer broken; 15 36; no test of his pose 32; docs/benchmarks.md
+#: "Session 81")
 PARTNER_FRONT_JOINTS = 13
 #: how far (in box heights) above or below its box a keypoint may lie for the pose to count as the dancer's
 POSE_HEIGHT_MARGIN = 0.1
