@@ -64,6 +64,8 @@ VARIANTS = (
     Variant("no_zoom", "no detector crops about dancers waiting hidden or seen without a pose", zoom=False),
     Variant("no_amodal_boxes", "hindsight without the learned whole-body box refiner",
             hindsight_settings=("amodal_boxes=false",)),
+    Variant("no_follow_partner", "hindsight without carrying a couple's hidden partner with the dancer in front",
+            hindsight_settings=("follow_partner=false",)),
     Variant("no_hindsight", "the online tracker's boxes as they are (no offline step)", hindsight=False),
 )
 VARIANTS_BY_NAME = {v.name: v for v in VARIANTS}

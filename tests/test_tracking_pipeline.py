@@ -45,18 +45,39 @@ def test_track_boxes_only(clip, tmp_path, capsys):
     assert overlay.info.size == (640, 480) and sum(1 for _ in overlay) == 60
     assert (out / "timeline.png").stat().st_size > 0 and "wrote" in captured.out and "timeline.png" in captured.out
     assert doc["hindsight"] is True and doc["amodal_boxes"] is True  # which last steps ran
+    assert doc["follow_partner"] is True
 
 
 def test_no_amodal_boxes_writes_the_boxes_hindsight_leaves_and_says_so(clip, tmp_path):
     """``--no-amodal-boxes`` leaves out the learned whole-body refiner, and tracks.json records it; so does
     ``--no-hindsight``, of which the refiner is the last step."""
     path, truth = clip
-    for flag in ("--no-amodal-boxes", "--no-hindsight"):
+    for flag in ("--no-amodal-boxes", "--no-hindsight", "--no-follow-partner"):
         out = tmp_path / flag
         assert main(["track", str(path), "--out", str(out), "--boxes", _boxes_arg(truth), "--detector", "none",
                      "--no-overlay", "--no-timeline", "--max-frames", "9", flag]) == 0
         doc = json.loads((out / "tracks.json").read_text())
-        assert doc["amodal_boxes"] is False and doc["hindsight"] is (flag != "--no-hindsight")
+        assert doc["amodal_boxes"] is (flag == "--no-follow-partner") and doc["hindsight"] is (flag != "--no-hindsight")
+        assert doc["follow_partner"] is (flag == "--no-amodal-boxes")
+
+
+def test_no_follow_partner_reaches_hindsight(clip, tmp_path, monkeypatch):
+    """``--no-follow-partner`` turns off hindsight's last step (``HindsightSettings.follow_partner``), nothing else."""
+    import hdvr.tracking.pipeline as pipeline
+
+    path, truth = clip
+    given, original = [], pipeline.apply_hindsight
+
+    def recording(*args, settings=None, **kwargs):
+        given.append(settings)
+        return original(*args, settings=settings, **kwargs)
+
+    monkeypatch.setattr(pipeline, "apply_hindsight", recording)
+    for flag in ([], ["--no-follow-partner"]):
+        assert main(["track", str(path), "--out", str(tmp_path / str(len(flag))), "--boxes", _boxes_arg(truth),
+                     "--detector", "none", "--no-overlay", "--no-timeline", "--max-frames", "9", *flag]) == 0
+    assert [s.follow_partner for s in given] == [True, False]
+    assert given[0].amodal_boxes and given[1].amodal_boxes
 
 
 def test_amodal_weights_of_ones_own_are_used_and_a_bad_file_stops_before_tracking(clip, tmp_path, capsys):

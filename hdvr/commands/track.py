@@ -51,6 +51,10 @@ def register(subparsers) -> None:
                    help="do not move the boxes of dancers seen to the whole body that the learned refiner predicts "
                         "(the arm behind a partner, the leg the detector left out); the boxes then follow what "
                         "shows of each dancer (see docs/tracking.md)")
+    p.add_argument("--no-follow-partner", action="store_true",
+                   help="in a video of two dancers, do not carry a partner waiting hidden behind the other since "
+                        "her start with his box (as a couple in hold moves together); for two dancers who do not "
+                        "dance in hold (see docs/tracking.md)")
     p.add_argument("--amodal-weights", default=None, metavar="W.pt",
                    help="weights of the whole-body refiner trained by scripts/train_amodal_boxes.py on your own "
                         "runs (default: the shipped ones, trained on hdvr synth clips with YOLO11n-pose at 480 px)")
@@ -149,7 +153,8 @@ def run(args: argparse.Namespace) -> int:
                          overlay=not args.no_overlay, max_frames=args.max_frames, zoom_hidden=not args.no_zoom,
                          zoom_unposed=not args.no_zoom, **zoom_size,
                          hindsight=not args.no_hindsight, amodal_boxes=not args.no_amodal_boxes,
-                         amodal_weights=args.amodal_weights, timeline=not args.no_timeline,
+                         amodal_weights=args.amodal_weights, follow_partner=not args.no_follow_partner,
+                         timeline=not args.no_timeline,
                          detections_cache=None if args.no_detection_cache else Path(args.out) / "detections.npz",
                          **dancers)
     frames = result.boxes.shape[0]

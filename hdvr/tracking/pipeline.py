@@ -339,7 +339,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 zoom_hidden: bool = True, zoom_unposed: bool = True,
                 zoom_input_size: int | None = ZOOM_INPUT_SIZE,
                 hindsight: bool = True, amodal_boxes: bool = True,
-                amodal_weights: str | os.PathLike | None = None,
+                amodal_weights: str | os.PathLike | None = None, follow_partner: bool = True,
                 corrections: list[BoxCorrection] | None = None,
                 swaps: list[IdentitySwap] | None = None, timeline: bool = True,
                 detections_cache: str | os.PathLike | None = None) -> TrackRun:
@@ -367,7 +367,10 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     (:func:`hdvr.tracking.hindsight.smooth_boxes`), all in :func:`hdvr.tracking.hindsight.apply_hindsight`; off, the
     boxes are those of the online tracker. ``amodal_boxes`` (with ``hindsight``): last, move each seen dancer's box
     to the whole body that the learned refiner predicts (:func:`hdvr.tracking.amodal.refine_boxes`), with the
-    weights at ``amodal_weights`` (None: the shipped ones; read before tracking starts). ``timeline``:
+    weights at ``amodal_weights`` (None: the shipped ones; read before tracking starts). ``follow_partner`` (with
+    ``hindsight``): in a video of two dancers, carry a partner waiting hidden behind the other since her start with
+    his box (:func:`hdvr.tracking.hindsight.follow_partner_in_hold`; off for two dancers who do not dance in hold).
+    ``timeline``:
     also draw ``timeline.png``, each dancer's status, found
     keypoints, corrections and swaps over the frames (:func:`hdvr.tracking.timeline.draw_tracks_timeline`).
     ``detections_cache``: an NPZ file (:mod:`hdvr.pose2d.cache`) from which the detector's people are taken for the
@@ -582,7 +585,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                                                 hidden_starts=hidden_starts, stopped_behind=run.stopped_behind,
                                                 returned_behind=run.returned_behind,
                                                 settings=HindsightSettings(amodal_boxes=amodal_boxes,
-                                                                           amodal_weights=str(amodal_weights or "")))
+                                                                           amodal_weights=str(amodal_weights or ""),
+                                                                           follow_partner=follow_partner))
     for c in corrections:  # written as the user gave them (or as found where the user pointed)
         if c.frame < len(run.boxes) and c.box is not None:
             run.boxes[c.frame, c.dancer] = c.box
@@ -592,6 +596,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             "source": str(video), "detect_every": detect_every, "detector": getattr(detector, "name", None),
             "hindsight": hindsight, "amodal_boxes": hindsight and amodal_boxes,
             "amodal_weights": str(amodal_weights) if hindsight and amodal_boxes and amodal_weights else None,
+            "follow_partner": hindsight and follow_partner,
             "starts": [{"frame": st.frame, "box": [float(v) for v in st.box]} for st in starts],
             "hidden_starts": [{"frame": f, "dancer": i, "behind": j} for f, i, j in hidden_starts],
             "corrections": [{"frame": c.frame, "dancer": c.dancer,
