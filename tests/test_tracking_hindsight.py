@@ -759,13 +759,13 @@ def _couple_in_hold(frames: int = 10):
 
 def test_a_couple_s_hidden_partner_is_carried_with_the_dancer_in_front():
     """Her box is his box mapped as his start box maps onto hers: frame 4, his box (80, 42, 100, 216), 1.08 his
-    start height: height 160 x 1.08, width 100 x 0.8 (her start height over his), centre 10 px right of his and
+    start height: height 160 x 1.08, width 100 x 40 / 60 (her start width over his), centre 10 px right of his and
     bottom 10 px above his, each x 1.08. Frames where his whole pose is not seen (5) or hers is (7) keep her box, and
     so do his boxes, other dancers' and the frames where she is seen."""
     boxes, status, keypoints = _couple_in_hold()
     carried = follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints)
-    np.testing.assert_allclose(carried[4, 1], [100.8, 74.4, 80.0, 172.8])
-    np.testing.assert_allclose(carried[0, 1], [116.0, 80.0, 48.0, 160.0])  # her start box, at his width x 0.8
+    np.testing.assert_allclose(carried[4, 1], [140.8 - 100 / 3, 74.4, 200 / 3, 172.8])
+    np.testing.assert_allclose(carried[0, 1], boxes[0, 1])  # at her start, her start box
     np.testing.assert_array_equal(carried[[5, 7], 1], boxes[[5, 7], 1])
     np.testing.assert_array_equal(carried[:, 0], boxes[:, 0])
     assert carried[9, 1, 2] > 1.5 * boxes[9, 1, 2]  # her arms spread with his
@@ -775,12 +775,15 @@ def test_a_couple_s_hidden_partner_is_carried_with_the_dancer_in_front():
 
 
 def test_only_a_couple_s_hidden_partner_is_carried():
-    """With a third dancer (a group: the dancer in front spreads his arms on his own) nothing changes."""
+    """With a third dancer (a group: the dancer in front spreads his arms on his own) nothing changes, for a dancer
+    waiting hidden since her start or occluded after being seen."""
     boxes, status, keypoints = _couple_in_hold()
     trio = np.concatenate([boxes, boxes[:, :1] + [300, 0, 0, 0]], axis=1)
     trio_keypoints = np.concatenate([keypoints, keypoints[:, :1]], axis=1)
     trio_status = [row + ("tracked",) for row in status]
     np.testing.assert_array_equal(follow_partner_in_hold(trio, trio_status, [(0, 1, 0)], trio_keypoints), trio)
+    occluded_status = [("tracked", "tracked", "tracked")] * 3 + [("tracked", "occluded", "tracked")] * 7
+    np.testing.assert_array_equal(follow_partner_in_hold(trio, occluded_status, [], trio_keypoints), trio)
     with pytest.raises(ValueError, match="front_joints"):
         follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints, front_joints=0)
 
@@ -794,3 +797,40 @@ def test_apply_hindsight_carries_a_couple_s_hidden_partner_last():
     on = apply_hindsight(boxes, status, keypoints, hidden_starts=[(0, 1, 0)])[0]
     np.testing.assert_allclose(on, follow_partner_in_hold(off, status, [(0, 1, 0)], keypoints))
     assert np.abs(on[:, 1] - off[:, 1]).max() > 10.0
+
+
+def _couple_occluded(seen_again: bool):
+    """The couple of :func:`_couple_in_hold`, but she is seen (status ``tracked``, box (120, 80, 40, 160)) on frames
+    0-2 and occluded from frame 3, to the end or (``seen_again``) until frame 7, where she is seen where the couple
+    moved her (her box at frame 2 carried with his) but 20 px further right."""
+    boxes, _, keypoints = _couple_in_hold()
+    keypoints[5, 0, :, 2] = 0.9
+    boxes[:, 1] = [120.0, 80.0, 40.0, 160.0]
+    status = [("tracked", "tracked")] * 3 + [("tracked", "occluded")] * 7
+    if seen_again:
+        status[7:] = [("tracked", "tracked")] * 3
+        his2, his7 = boxes[2, 0], boxes[7, 0]
+        scale = his7[3] / his2[3]
+        centre = his7[0] + his7[2] / 2 + 10 * scale + 20
+        height, width = 160 * scale, his7[2] / 2
+        boxes[7:, 1] = [centre - width / 2, his7[1] + his7[3] - 14 * scale - height, width, height]
+    return boxes, status, keypoints
+
+
+def test_a_couple_s_occluded_partner_is_carried_with_the_dancer_in_front():
+    """Occluded after frame 2, to the end: frame 4, his box (80, 42, 100, 216), 216 / 208 his height at frame 2: her
+    centre 10 px right of his and bottom 14 px above his, each x 216 / 208, height 160 x 216 / 208, width 100 x 40 / 80
+    (hers over his at frame 2). Seen again at frame 7, 20 px right of where the couple would have carried her: the
+    stretch blends towards that: at frame 6, 4 / 5 of the way to 20 px right, scaled with his height (224 / 228)."""
+    boxes, status, keypoints = _couple_occluded(seen_again=False)
+    carried = follow_partner_in_hold(boxes, status, [], keypoints)
+    np.testing.assert_allclose(carried[4, 1], [115.3846, 77.3077, 50.0, 166.1538], rtol=1e-5)
+    np.testing.assert_array_equal(carried[:3], boxes[:3])
+    np.testing.assert_array_equal(carried[:, 0], boxes[:, 0])
+    boxes_again, status_again, _ = _couple_occluded(seen_again=True)
+    again = follow_partner_in_hold(boxes_again, status_again, [], keypoints)
+    np.testing.assert_allclose(again[6, 1], carried[6, 1] + [16.0 * 224 / 228, 0, 0, 0], rtol=1e-9)
+    np.testing.assert_array_equal(again[7:], boxes_again[7:])
+    unposed = keypoints.copy()
+    unposed[4, 0, :, 2] = 0.0  # his pose not seen on frame 4: her box there as it was
+    np.testing.assert_array_equal(follow_partner_in_hold(boxes, status, [], unposed)[4], boxes[4])

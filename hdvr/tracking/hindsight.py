@@ -666,18 +666,35 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
     return out
 
 
+def _carried(his: np.ndarray, his_then: np.ndarray, own_then: np.ndarray, width_ratio: float) -> np.ndarray:
+    """(F, 4) px boxes of a partner carried with the dancer in front: his boxes ``his`` (F, 4) px mapped as his box
+    ``his_then`` mapped onto hers, ``own_then`` (both (4,) px): her height and her offsets from his centre and bottom
+    scaled with his height, her width his width times ``width_ratio``."""
+    scale = his[:, 3] / his_then[3]
+    centre = his[:, 0] + his[:, 2] / 2 + (own_then[0] + own_then[2] / 2 - his_then[0] - his_then[2] / 2) * scale
+    bottom = his[:, 1] + his[:, 3] + (own_then[1] + own_then[3] - his_then[1] - his_then[3]) * scale
+    height = own_then[3] * scale
+    width = his[:, 2] * width_ratio
+    return np.stack([centre - width / 2, bottom - height, width, height], axis=1)
+
+
 def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: np.ndarray,
                            min_confidence: float = MIN_KEYPOINT_CONFIDENCE, front_joints: int = PARTNER_FRONT_JOINTS,
                            own_keypoints: int = MIN_KEYPOINTS) -> np.ndarray:
-    """``boxes`` (T, N, 4) px of a video of exactly two dancers (N == 2: a couple) with the box of a dancer who waits
-    hidden behind the other since its start (``hidden_starts``: (frame, dancer, dancer in front) triples) carried
-    along with his (module docstring): on each frame where it waits (status ``hidden``), the dancer in front shows at
-    least ``front_joints`` of the 17 COCO-17 joints and the waiting dancer fewer than ``own_keypoints`` of its own
-    (BODY_25 ``keypoints`` (T, N, 25, 3): x px, y px, confidence; confidence ``min_confidence`` or more), its box is
-    his box mapped as his box at its start mapped onto its start box: its height his height times its start height
-    over his start height, its width his width times that same ratio, its centre and bottom at their start offsets
-    from his centre and bottom, scaled by his height over his start height. Other frames, clips of any other number
-    of dancers and the input are not changed."""
+    """``boxes`` (T, N, 4) px of a video of exactly two dancers (N == 2: a couple) with the box of a partner hidden
+    behind the other carried along with his (module docstring), on the frames where the dancer in front shows at
+    least ``front_joints`` of the 17 COCO-17 joints (BODY_25 ``keypoints`` (T, N, 25, 3): x px, y px, confidence;
+    confidence ``min_confidence`` or more):
+
+    - a partner waiting hidden since her start (``hidden_starts``: (frame, dancer, dancer in front) triples; status
+      ``hidden``) and showing fewer than ``own_keypoints`` keypoints of her own: his box mapped as his box at her
+      start mapped onto her start box (:func:`_carried`), her width his width times her start width over his;
+    - a partner occluded after being seen (a stretch of status ``occluded`` right after a ``tracked`` frame) while
+      he is ``tracked``: his box mapped as his box on the frame she was last seen mapped onto hers then, her width
+      his width times hers over his then; where she is seen again right after the stretch, blended linearly
+      towards the mapping of that frame's boxes.
+
+    Other frames, clips of any other number of dancers and the input are not changed."""
     boxes, status = _checked(boxes, status, front_joints=front_joints, own_keypoints=own_keypoints)
     keypoints = _checked_keypoints(keypoints, boxes)
     out = boxes.copy()
@@ -688,17 +705,28 @@ def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: 
     own_seen = ((keypoints[..., 2] >= min_confidence) & np.isfinite(keypoints[..., :2]).all(axis=-1)).sum(axis=-1)
     for first, dancer, front in hidden_starts:
         his_start, own_start = boxes[first, front], boxes[first, dancer]
-        if not (np.isfinite(his_start).all() and np.isfinite(own_start).all() and his_start[3] > 0):
+        if not (np.isfinite(his_start).all() and np.isfinite(own_start).all() and (his_start[2:] > 0).all()):
             continue
         frames = _waiting_frames(boxes, status, dancer, front, first, _wait_end(status, dancer, first))
         frames = frames[(front_seen[frames, front] >= front_joints) & (own_seen[frames, dancer] < own_keypoints)]
-        his = boxes[frames, front]
-        scale = his[:, 3] / his_start[3]
-        centre = his[:, 0] + his[:, 2] / 2 + (own_start[0] + own_start[2] / 2 - his_start[0] - his_start[2] / 2) * scale
-        bottom = his[:, 1] + his[:, 3] + (own_start[1] + own_start[3] - his_start[1] - his_start[3]) * scale
-        height = own_start[3] * scale
-        width = his[:, 2] * own_start[3] / his_start[3]
-        out[frames, dancer] = np.stack([centre - width / 2, bottom - height, width, height], axis=1)
+        out[frames, dancer] = _carried(boxes[frames, front], his_start, own_start, own_start[2] / his_start[2])
+    for dancer, front in ((0, 1), (1, 0)):
+        for begin, end in _runs(status[:, dancer] == OCCLUDED):
+            if begin == 0 or status[begin - 1, dancer] != TRACKED:
+                continue
+            frames = np.arange(begin, end + 1)
+            frames = frames[(status[frames, front] == TRACKED) & np.isfinite(boxes[frames, front]).all(axis=1)
+                            & (front_seen[frames, front] >= front_joints)]
+            ends = [t for t in (begin - 1, end + 1) if t < len(boxes) and status[t, dancer] == TRACKED
+                    and np.isfinite(boxes[t]).all() and (boxes[t, :, 2:] > 0).all()]
+            if not len(frames) or not ends or ends[0] != begin - 1:
+                continue
+            carried = [_carried(boxes[frames, front], boxes[t, front], boxes[t, dancer],
+                                boxes[t, dancer, 2] / boxes[t, front, 2]) for t in ends]
+            if len(ends) == 2:
+                weight = ((frames - (begin - 1)) / (end + 2 - begin))[:, None]
+                carried = [(1 - weight) * carried[0] + weight * carried[1]]
+            out[frames, dancer] = carried[0]
     return out
 
 
