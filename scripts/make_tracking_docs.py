@@ -132,9 +132,11 @@ DEPTH = (
     (2960, 0, "tango", 2, 64, "tracking_depth_scale_s2960_tango_064.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame where a couple's partner waiting hidden behind the
-#: dancer in front has opened her arms with his (``follow_partner``; session 81, a clip of the fresh set F)
+#: dancer in front has opened her arms with his, and one where a partner occluded behind him after being seen is
+#: carried with him (``follow_partner``; session 81, clips of the fresh set F and of seeds 2701-2823)
 PARTNER = (
     (3049, 0, "tango", 2, 100, "tracking_partner_in_hold_s3049_tango_100.jpg"),
+    (2733, 0, "tango", 2, 90, "tracking_partner_occluded_s2733_tango_090.jpg"),
 )
 #: (seed, clip index, genre, dancers, frame, picture name): a frame where a dancer in plain view that the whole
 #: frame's detection misses (a leg kicked high) gets its pose from a crop about it (``zoom_unposed``; session 53)
