@@ -52,9 +52,9 @@ def register(subparsers) -> None:
                         "(the arm behind a partner, the leg the detector left out); the boxes then follow what "
                         "shows of each dancer (see docs/tracking.md)")
     p.add_argument("--no-follow-partner", action="store_true",
-                   help="in a video of two dancers, do not carry a partner waiting hidden behind the other since "
-                        "her start with his box (as a couple in hold moves together); for two dancers who do not "
-                        "dance in hold (see docs/tracking.md)")
+                   help="in a video of two dancers, do not carry a partner hidden behind the other (waiting since "
+                        "her start, or occluded after being seen) with his box, as a couple in hold moves together; "
+                        "for two dancers who do not dance in hold (see docs/tracking.md)")
     p.add_argument("--amodal-weights", default=None, metavar="W.pt",
                    help="weights of the whole-body refiner trained by scripts/train_amodal_boxes.py on your own "
                         "runs (default: the shipped ones, trained on hdvr synth clips with YOLO11n-pose at 480 px)")

@@ -368,8 +368,9 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     boxes are those of the online tracker. ``amodal_boxes`` (with ``hindsight``): last, move each seen dancer's box
     to the whole body that the learned refiner predicts (:func:`hdvr.tracking.amodal.refine_boxes`), with the
     weights at ``amodal_weights`` (None: the shipped ones; read before tracking starts). ``follow_partner`` (with
-    ``hindsight``): in a video of two dancers, carry a partner waiting hidden behind the other since her start with
-    his box (:func:`hdvr.tracking.hindsight.follow_partner_in_hold`; off for two dancers who do not dance in hold).
+    ``hindsight``): in a video of two dancers, carry a partner hidden behind the other (waiting since her start, or
+    occluded after being seen) with his box (:func:`hdvr.tracking.hindsight.follow_partner_in_hold`; off for two
+    dancers who do not dance in hold).
     ``timeline``:
     also draw ``timeline.png``, each dancer's status, found
     keypoints, corrections and swaps over the frames (:func:`hdvr.tracking.timeline.draw_tracks_timeline`).
