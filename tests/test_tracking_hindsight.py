@@ -799,6 +799,20 @@ def test_apply_hindsight_carries_a_couple_s_hidden_partner_last():
     assert np.abs(on[:, 1] - off[:, 1]).max() > 10.0
 
 
+def test_a_couple_s_waiting_partner_with_a_pose_of_her_own_is_centred_on_her_torso():
+    """On frame 7 she shows a pose (5 keypoints, neck and right shoulder among them): where its torso lies 50 px from
+    his (more than 0.1 of her height), her box is moved sideways onto it, size and height kept; where it lies on his
+    (Algorithm 2* gave her his pose) it is left as it was."""
+    boxes, status, keypoints = _couple_in_hold()
+    own = keypoints.copy()
+    own[7, 1, :, 0] = 200.0
+    centred = follow_partner_in_hold(boxes, status, [(0, 1, 0)], own)
+    np.testing.assert_allclose(centred[7, 1], [180.0, 80.0, 40.0, 160.0])
+    np.testing.assert_array_equal(follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints)[7, 1], boxes[7, 1])
+    own[7, 0, :, 2] = 0.0  # his torso unseen: hers is her own
+    np.testing.assert_allclose(follow_partner_in_hold(boxes, status, [(0, 1, 0)], own)[7, 1], [180, 80, 40, 160])
+
+
 def _couple_occluded(seen_again: bool):
     """The couple of :func:`_couple_in_hold`, but she is seen (status ``tracked``, box (120, 80, 40, 160)) on frames
     0-2 and occluded from frame 3, to the end or (``seen_again``) until frame 7, where she is seen where the couple
