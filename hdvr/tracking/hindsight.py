@@ -124,28 +124,27 @@ small network learned from hdvr synth clips predicts from the box, its keypoints
 (``HindsightSettings.amodal_boxes``; session 52: on clips it was not trained on, 15 + 9 + 5 -> 13 + 6 + 5 failing
 over three sets, HOTA up 0.04 on each; docs/tracking.md "Whole-body boxes").
 
-Last, :func:`follow_partner_in_hold`: in a video of two dancers, a partner hidden behind the other dances in hold
-with him (tango, swing, salsa): as the couple comes nearer she grows with him, and as he opens his arms so does she,
-while her own tracker keeps her start size (or holds her last box seen) and the steps above move only her place. So
-on each frame where his pose shows at least ``PARTNER_FRONT_JOINTS`` (13) of the 17 COCO-17 joints (his box,
-refined, is then his whole body), her box is his box mapped as his box mapped onto hers at a frame where both were
-known: her height and her offsets from his centre and bottom scaled with his height, her width his width times
-hers over his then. A partner waiting hidden since her start is mapped from her start box, on the frames where her
-own pose shows fewer than ``MIN_KEYPOINTS`` keypoints (her own pose, when the detector finds it, is better evidence:
-2887 swing), and where it shows more, with its torso 0.1 of her height or more from his (``PARTNER_TORSO_APART``:
-her own pose, not his given to her), her box is moved sideways onto her torso (3004 tango 0.883 -> 0.912; in every
-clip with a hidden start, groups too, it lost more than it mended: 2720 ballet and 2771 hip-hop gained switches); a
-partner occluded after being seen, while he is seen, from the frame she was last seen, blended
-linearly towards the mapping from the frame she is seen again where there is one. In a group the dancer in front
-spreads his arms on his own (session 79: a waiting dancer's width following the front dancer's in every clip, 49 ->
-63 failing), so only couples. Session 81, on 1,141 hdvr synth clips tracked by session 80's code: 35 -> 27 failing,
-10 mended (3004 tango, 3049 tango 0.704 -> 0.975, 3064 tango 0.642 -> 0.938, 3007 tango 0.604 -> 1.000, 2938 swing 0.600 ->
-1.000, 2733 tango 0.700 -> 1.000 occluded, 3085 tango 0.854 with a switch -> 0.917 occluded, 2721 swing, 3062 tango,
-3024 tango) and 2 broken, where his box itself misses his spread arms or his height (3063 swing 0.988 -> 0.979 with
-a switch, 2950 tango 0.958 -> 0.954 with a switch); 302 more clips without a couple hidden unchanged. For the waits
-12 joints gave the same as 13, 14 one fewer mended and one fewer broken, 15 (``MIN_FULL_POSE``: his face is mostly
-turned from the camera, 3 of its 5 points unseen) left most frames as they were, 35 -> 36 (docs/benchmarks.md
-"Session 81").
+Last, :func:`follow_partner_in_hold`: in a video of two dancers, a partner hidden behind the other dances in hold with
+him (tango, swing, salsa): as the couple comes nearer she grows with him, and as he opens his arms so does she, while
+her own tracker keeps her start size (or holds her last box seen) and the steps above move only her place. So on each
+frame where his pose shows at least ``PARTNER_FRONT_JOINTS`` (13) of the 17 COCO-17 joints (his box, refined, is then
+his whole body), her box is his box mapped as his box mapped onto hers at a frame where both were known: her height
+and her offsets from his centre and bottom scaled with his height, her width his width times hers over his then. A
+partner waiting hidden since her start is mapped from her start box, on the frames where her own pose shows fewer than
+``MIN_KEYPOINTS`` keypoints (her own pose, when the detector finds it, is better evidence: 2887 swing), and where it
+shows more, with its torso 0.1 of her height or more from his (``PARTNER_TORSO_APART``: her own pose, not his given to
+her), her box is moved sideways onto her torso (3004 tango 0.883 -> 0.912; in every clip with a hidden start, groups
+too, it lost more than it mended: 2720 ballet and 2771 hip-hop gained switches); a partner occluded after being seen,
+while he is seen, from the frame she was last seen, blended linearly towards the mapping from the frame she is seen
+again where there is one. In a group the dancer in front spreads his arms on his own (session 79: a waiting dancer's
+width following the front dancer's in every clip, 49 -> 63 failing), so only couples. Session 81, on 1,141 hdvr synth
+clips tracked by session 80's code: 35 -> 27 failing, 10 mended (3004 tango, 3049 tango 0.704 -> 0.975, 3064 tango
+0.642 -> 0.938, 3007 tango 0.604 -> 1.000, 2938 swing 0.600 -> 1.000, 2733 tango 0.700 -> 1.000 occluded, 3085 tango
+0.854 with a switch -> 0.917 occluded, 2721 swing, 3062 tango, 3024 tango) and 2 broken, where his box itself misses
+his spread arms or his height (3063 swing 0.988 -> 0.979 with a switch, 2950 tango 0.958 -> 0.954 with a switch); 302
+more clips without a couple hidden unchanged. For the waits 12 joints gave the same as 13, 14 one fewer mended and one
+fewer broken, 15 (``MIN_FULL_POSE``: his face is mostly turned from the camera, 3 of its 5 points unseen) left most
+frames as they were, 35 -> 36 (docs/benchmarks.md "Session 81").
 
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
