@@ -298,6 +298,12 @@ def _checked_keypoints(keypoints, boxes: np.ndarray) -> np.ndarray:
     return keypoints
 
 
+def _confident(keypoints: np.ndarray, min_confidence: float) -> np.ndarray:
+    """(...) bool: which of the (..., 3) ``keypoints`` (x px, y px, confidence) are known and of confidence
+    ``min_confidence`` or more."""
+    return (keypoints[..., 2] >= min_confidence) & np.isfinite(keypoints[..., :2]).all(axis=-1)
+
+
 def interpolate_boxes(start, end, steps: int) -> np.ndarray:
     """(steps, 4) boxes strictly between (x, y, w, h) px boxes ``start`` and ``end``, evenly spaced in time:
     centre and size are interpolated linearly (so a box that grows does not also drift)."""
@@ -386,7 +392,7 @@ def enclose_keypoints(boxes: np.ndarray, status, keypoints: np.ndarray, reach: f
     keypoints = _checked_keypoints(keypoints, boxes)
     if reach < 0 or height_margin < 0:
         raise ValueError(f"reach and height_margin must be >= 0, got {reach} and {height_margin}")
-    confident = (keypoints[..., 2] >= min_confidence) & np.isfinite(keypoints[..., :2]).all(axis=-1)
+    confident = _confident(keypoints, min_confidence)
     x = np.where(confident, keypoints[..., 0], np.nan)
     y = np.where(confident, keypoints[..., 1], np.nan)
     left, top, width, height = np.moveaxis(boxes, -1, 0)
@@ -425,7 +431,7 @@ def trim_above_pose(boxes: np.ndarray, status, keypoints: np.ndarray, reach: flo
     if reach < 0:
         raise ValueError(f"reach must be >= 0, got {reach}")
     joints = keypoints[:, :, _FULL_POSE]
-    confident = (joints[..., 2] >= min_confidence) & np.isfinite(joints[..., :2]).all(axis=-1)
+    confident = _confident(joints, min_confidence)
     left, top, width, height = np.moveaxis(boxes, -1, 0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows (no keypoint): those are not used anyway
@@ -692,7 +698,7 @@ def _torso_centre(keypoints: np.ndarray, min_confidence: float) -> np.ndarray:
     """(F,) mean x px of the torso keypoints (neck, shoulders, hips) of confidence ``min_confidence`` or more of
     each of the (F, 25, 3) BODY_25 ``keypoints``; NaN where fewer than two are."""
     torso = keypoints[:, _TORSO]
-    sure = (torso[..., 2] >= min_confidence) & np.isfinite(torso[..., :2]).all(axis=-1)
+    sure = _confident(torso, min_confidence)
     count = sure.sum(axis=1)
     total = np.where(sure, torso[..., 0], 0.0).sum(axis=1)
     return np.where(count >= 2, total / np.maximum(count, 1), np.nan)
@@ -724,9 +730,8 @@ def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: 
     out = boxes.copy()
     if boxes.shape[1] != 2:
         return out
-    joints = keypoints[:, :, _FULL_POSE]
-    front_seen = ((joints[..., 2] >= min_confidence) & np.isfinite(joints[..., :2]).all(axis=-1)).sum(axis=-1)
-    own_seen = ((keypoints[..., 2] >= min_confidence) & np.isfinite(keypoints[..., :2]).all(axis=-1)).sum(axis=-1)
+    front_seen = _confident(keypoints[:, :, _FULL_POSE], min_confidence).sum(axis=-1)
+    own_seen = _confident(keypoints, min_confidence).sum(axis=-1)
     for first, dancer, front in hidden_starts:
         his_start, own_start = boxes[first, front], boxes[first, dancer]
         if not (np.isfinite(his_start).all() and np.isfinite(own_start).all() and (his_start[2:] > 0).all()):
@@ -739,19 +744,20 @@ def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: 
         with np.errstate(invalid="ignore"):  # his torso unseen (NaN): hers is her own
             given = np.abs(centre - _torso_centre(keypoints[posed, front], min_confidence)) \
                 < torso_apart * boxes[posed, dancer, 3]  # the front dancer's pose given to her
-        moved = posed[np.isfinite(centre) & ~given]
-        out[moved, dancer, 0] = centre[np.isfinite(centre) & ~given] - boxes[moved, dancer, 2] / 2
+        own = np.isfinite(centre) & ~given
+        out[posed[own], dancer, 0] = centre[own] - boxes[posed[own], dancer, 2] / 2
+    def seen(t: int, dancer: int) -> bool:  # the dancer is seen on frame t and both boxes are known there
+        return 0 <= t < len(boxes) and status[t, dancer] == TRACKED and np.isfinite(boxes[t]).all() \
+            and (boxes[t, :, 2:] > 0).all()
+
     for dancer, front in ((0, 1), (1, 0)):
-        for begin, end in _runs(status[:, dancer] == OCCLUDED):
-            if begin == 0 or status[begin - 1, dancer] != TRACKED:
-                continue
+        for begin, end in occluded_stretches(status[:, dancer]):
             frames = np.arange(begin, end + 1)
             frames = frames[(status[frames, front] == TRACKED) & np.isfinite(boxes[frames, front]).all(axis=1)
                             & (front_seen[frames, front] >= front_joints)]
-            ends = [t for t in (begin - 1, end + 1) if t < len(boxes) and status[t, dancer] == TRACKED
-                    and np.isfinite(boxes[t]).all() and (boxes[t, :, 2:] > 0).all()]
-            if not len(frames) or not ends or ends[0] != begin - 1:
+            if not len(frames) or not seen(begin - 1, dancer):
                 continue
+            ends = [begin - 1, end + 1] if seen(end + 1, dancer) else [begin - 1]
             carried = [_carried(boxes[frames, front], boxes[t, front], boxes[t, dancer],
                                 boxes[t, dancer, 2] / boxes[t, front, 2]) for t in ends]
             if len(ends) == 2:
