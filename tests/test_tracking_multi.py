@@ -2796,7 +2796,6 @@ def test_a_clear_dancer_s_stored_velocity_is_capped_up_and_down_the_image():
     assert MultiTrackerConfig().max_vertical_speed == 0.005
 
 
-
 def test_a_box_inside_another_dancer_s_while_a_person_goes_untaken_is_on_the_same_person(tmp_path):
     """Two tracked boxes on one person: the one matching its memory worse has failed (``same_person_iou``). A
     dancer's box that drifted onto a taller dancer lies inside that dancer's box, and being narrower keeps the IoU
