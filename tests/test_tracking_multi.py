@@ -2831,3 +2831,47 @@ def test_a_box_inside_another_dancer_s_while_a_person_goes_untaken_is_on_the_sam
     status, on_own, on_other = dancer_0(0.9, False)
     assert status == TRACKED and on_own == 0.0 and on_other > 0.3
     assert MultiTrackerConfig().same_person_inside == 0.9
+
+
+def test_a_taller_stranger_walking_in_front_of_a_dancer_hides_it_instead_of_taking_its_box(tmp_path):
+    """A small dancer standing still is walked over by a taller person nearer the camera, whom nobody tracks (in
+    hdvr synth seed 3048 flamenco, a dancer who had waited hidden behind the dancer in front). While the stranger
+    hides her, the detector finds one person on her box: his. Without ``stranger_in_front`` her box adapts to his
+    detection, learns his colours and walks off with him; with it she is occluded there (his colours are not hers,
+    he is taller and his feet lower in the image), not taken again on her own tracker's box (it shows him) and
+    re-identified on her detection once he has passed. A person some other dancer's box lies on is no stranger."""
+    from hdvr.tracking.testclips import FIGURE_PALETTE
+    specs = [FigureSpec((380.0, 230.0), (0.0, 0.0), 180.0, FIGURE_PALETTE[2], depth=1.0),
+             FigureSpec((120.0, 270.0), (4.0, 0.0), 230.0, FIGURE_PALETTE[0], depth=0.0)]
+    truth = render_clip(tmp_path / "clip.mp4", frames=90, specs=specs)
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+    boxes = [[tuple(float(v) for v in b) for b in frame_boxes] for frame_boxes in truth.boxes]
+    hidden = [t for t, (a, b) in enumerate(boxes)  # more than 30 % of her width behind him: the detector misses her
+              if min(a[0] + a[2], b[0] + b[2]) - max(a[0], b[0]) > 0.3 * a[2]]
+    assert 20 < len(hidden) < 60 and hidden[-1] < 80
+
+    def her_track(stranger_in_front):
+        tracker = MultiDancerTracker(frames[0], [boxes[0][0]], MultiTrackerConfig(stranger_in_front=stranger_in_front))
+        statuses = []
+        for t in range(1, len(frames)):
+            tracker.step(frames[t], [boxes[t][1]] if t in hidden else boxes[t])
+            statuses.append(tracker.dancers[0].status)
+        return statuses, tracker.dancers[0].box
+
+    statuses, box = her_track(0.4)
+    assert all(statuses[t - 1] == OCCLUDED for t in hidden[8:-4]) and statuses[-1] == TRACKED
+    assert box_iou(box, boxes[-1][0]) > 0.7 and box_iou(box, boxes[-1][1]) == 0.0
+    statuses, box = her_track(None)
+    assert OCCLUDED not in statuses and box_iou(box, boxes[-1][0]) < 0.2
+    assert MultiTrackerConfig().stranger_in_front == 0.4
+
+    # a person some dancer's box lies on (here one occluded there) is accounted for: no stranger
+    t = hidden[3]  # he covers less than half her box yet: she has not met him
+    tracker = MultiDancerTracker(frames[0], [boxes[0][0]])
+    for s in range(1, t):
+        tracker.step(frames[s], [boxes[s][1]] if s in hidden else boxes[s])
+    her, his_detection = tracker.dancers[0], boxes[t][1]
+    assert tracker._stranger_in_front(frames[t], her, his_detection, [his_detection])
+    tracker.add_dancer(frames[t], his_detection)
+    tracker.dancers[1].status = OCCLUDED
+    assert not tracker._stranger_in_front(frames[t], her, his_detection, [his_detection])

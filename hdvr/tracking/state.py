@@ -67,6 +67,9 @@ class DancerTrack:
     lost_candidate: tuple | None = None  # while occluded long: the box (px) the whole-frame search last found it at
     # (:meth:`hdvr.tracking.multi.MultiDancerTracker._search_lost`), and on how many searches in a row there
     lost_streak: int = 0
+    behind_stranger: bool = False  # occluded behind a person nobody tracks (``MultiTrackerConfig.stranger_in_front``):
+    # that person's path is unknown, so the dancer is looked for by re-identification, not relocated when its box
+    # lies clear of the dancers followed
     lost_on_background: bool = False  # occluded because its tracker drifted onto the background (its box held
     # no person nor foreground: ``MultiTrackerConfig.lost_max_foreground``); until it is taken again, its own
     # tracker's box is no candidate
