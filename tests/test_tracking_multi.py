@@ -2872,6 +2872,7 @@ def test_a_taller_stranger_walking_in_front_of_a_dancer_hides_it_instead_of_taki
         tracker.step(frames[s], [boxes[s][1]] if s in hidden else boxes[s])
     her, his_detection = tracker.dancers[0], boxes[t][1]
     assert tracker._stranger_in_front(frames[t], her, his_detection, [his_detection])
+    assert tracker._stranger_in_front(frames[t], her, his_detection, [])  # a weak detection, not among the sure
     tracker.add_dancer(frames[t], his_detection)
     tracker.dancers[1].status = OCCLUDED
     assert not tracker._stranger_in_front(frames[t], her, his_detection, [his_detection])

@@ -2293,7 +2293,10 @@ class MultiDancerTracker(ReportedExtent):
                for o in self.dancers):
             return False
         dets = [tuple(float(v) for v in det) for det in detections]
-        k = dets.index(tuple(float(v) for v in detection))
+        detection = tuple(float(v) for v in detection)
+        if detection not in dets:  # a weak detection (``weak_detections``): assigned along with the sure ones
+            dets.append(detection)
+        k = dets.index(detection)
         return all(taken != k or i == d.dancer_id for i, taken in self._claims(dets).items())
 
     def _in_front_of_all(self, d: DancerTrack, overlapping: list[int]) -> bool:
