@@ -1395,7 +1395,7 @@ class MultiDancerTracker(ReportedExtent):
         t = self.frame_index
         d.status = OCCLUDED
         d.occluded_since = t
-        d.stopped_behind, d.cover_path = False, []
+        d.stopped_behind, d.cover_path, d.behind_stranger = False, [], False  # (set after, when behind a stranger)
         if self.config.occluded_keeps_size:
             cx, cy = box_centre(d.stored_box)
             d.stored_box = (cx - d.box[2] / 2, cy - d.box[3] / 2, d.box[2], d.box[3])
@@ -1600,7 +1600,7 @@ class MultiDancerTracker(ReportedExtent):
         d.offset = np.zeros(2)
         d.tracker.init(frame, self._core(box))
         d.box, d.missed, d.confidence = tuple(float(v) for v in box), 0, float(np.clip(score, 0, 1))
-        d.detected_at_edge, d.lost_on_background = None, False
+        d.detected_at_edge, d.lost_on_background, d.behind_stranger = None, False, False
         d.hidden_aspect, d.hidden_sides = None, (False, False)
         d.centers, d.clear_track = [d.body_center], []
         d.stored_box, d.stored_frame = d.box, self.frame_index
