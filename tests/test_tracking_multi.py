@@ -9,7 +9,7 @@ from hdvr.tracking.appearance import box_inside, box_iou, colour_histogram, hist
 from hdvr.tracking.evaluation import evaluate_tracking, iou_matrix
 from hdvr.tracking.multi import OCCLUDED, OUT, TRACKED, MultiDancerTracker, MultiTrackerConfig, likely_windows
 from hdvr.tracking.state import box_centre, stands_in_front
-from hdvr.tracking.testclips import FigureSpec, default_crossing_specs, render_clip
+from hdvr.tracking.testclips import FIGURE_PALETTE, FigureSpec, default_crossing_specs, render_clip
 from hdvr.video import VideoReader
 
 
@@ -2840,7 +2840,6 @@ def test_a_taller_stranger_walking_in_front_of_a_dancer_hides_it_instead_of_taki
     detection, learns his colours and walks off with him; with it she is occluded there (his colours are not hers,
     he is taller and his feet lower in the image), not taken again on her own tracker's box (it shows him) and
     re-identified on her detection once he has passed. A person some other dancer's box lies on is no stranger."""
-    from hdvr.tracking.testclips import FIGURE_PALETTE
     specs = [FigureSpec((380.0, 230.0), (0.0, 0.0), 180.0, FIGURE_PALETTE[2], depth=1.0),
              FigureSpec((120.0, 270.0), (4.0, 0.0), 230.0, FIGURE_PALETTE[0], depth=0.0)]
     truth = render_clip(tmp_path / "clip.mp4", frames=90, specs=specs)

@@ -1208,8 +1208,7 @@ class MultiDancerTracker(ReportedExtent):
 
                 matches = [det for det in detections if on_box(det)] or [det for det in weak if on_box(det)]
                 if len(matches) == 1 and self._stranger_in_front(frame, d, matches[0], detections):
-                    self._occlude(d, [])
-                    d.behind_stranger, d.occlusion_end = True, t + c.max_occlusion_frames
+                    self._occlude(d, [], behind_stranger=True)
                     continue
                 d.missed = 0 if matches else d.missed + 1
                 d.found_streak = d.found_streak + 1 if matches else 0
@@ -1388,18 +1387,21 @@ class MultiDancerTracker(ReportedExtent):
         d.returned_behind = True
         return True
 
-    def _occlude(self, d: DancerTrack, front: list[DancerTrack]) -> None:
+    def _occlude(self, d: DancerTrack, front: list[DancerTrack], behind_stranger: bool = False) -> None:
         """Dancer ``d`` is hidden behind the dancers ``front`` from this frame on: its box is predicted from its
         last clear one (with the size of its box now, ``occluded_keeps_size``), and it is looked for again from the
-        predicted end of the overlap."""
+        predicted end of the overlap. ``behind_stranger``: hidden behind a person nobody tracks
+        (``stranger_in_front``), whose path, and so the end of the overlap, is unknown: it is looked for by
+        re-identification only, until ``max_occlusion_frames`` have passed."""
         t = self.frame_index
         d.status = OCCLUDED
         d.occluded_since = t
-        d.stopped_behind, d.cover_path, d.behind_stranger = False, [], False  # (set after, when behind a stranger)
+        d.stopped_behind, d.cover_path, d.behind_stranger = False, [], behind_stranger
         if self.config.occluded_keeps_size:
             cx, cy = box_centre(d.stored_box)
             d.stored_box = (cx - d.box[2] / 2, cy - d.box[3] / 2, d.box[2], d.box[3])
-        d.occlusion_end = self._predict_overlap_end(d, front, t)
+        d.occlusion_end = t + self.config.max_occlusion_frames if behind_stranger \
+            else self._predict_overlap_end(d, front, t)
         d.box = self._predicted_box(d, t)
         d.confidence = 0.0
 
@@ -2282,9 +2284,7 @@ class MultiDancerTracker(ReportedExtent):
         c = self.config
         if c.stranger_in_front is None or d.stored_histogram is None:
             return False
-        height = d.box[3]
-        if detection[3] < c.stranger_height * height or \
-                detection[1] + detection[3] - (d.box[1] + height) < c.stranger_lower * height:
+        if detection[3] < c.stranger_height * d.box[3] or not stands_in_front(detection, d.box, c.stranger_lower):
             return False
         hist = self._histogram(frame, detection)
         if hist is None or histogram_similarity(hist, d.stored_histogram) >= c.stranger_in_front:
