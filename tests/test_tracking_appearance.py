@@ -86,3 +86,24 @@ def test_with_ring_common_a_person_beside_a_dancer_stays_foreground():
     assert mask[380:, :].mean() < 0.01 and mask[:150, :].mean() < 0.01  # floor and wall
     upper = foreground_mask(frame, [(40, 230, 40, 60)], margin=(1.0, 2.5), ring_common=0.02)  # rows 80-440
     assert upper[300:360, 45:75].mean() > 0.95  # the first figure's legs, below her box
+
+
+def test_with_arm_margin_a_bare_forearm_past_the_margin_stays_foreground():
+    """A figure's arm reaches out past the widened box at arm height, its bare forearm a colour found nowhere
+    else: without ``arm_margin`` the part beyond the margin makes that colour background, and the whole forearm
+    with it; with it those rows are left out of the sample further sideways and the forearm is foreground. Below
+    the arm rows the sample is as before: a patch of the same colour at leg height, beyond the margin, stays
+    background."""
+    frame = np.zeros((240, 320, 3), np.uint8)
+    frame[:] = (60, 140, 60)
+    frame[60:200, 150:170] = (0, 0, 220)  # a red figure
+    frame[80:84, 170:180] = (0, 0, 220)  # its sleeve
+    frame[80:84, 180:220] = (140, 170, 230)  # its forearm, out to x 220: 0.36 x 140 px beyond the box
+    box = (150, 60, 20, 140)  # margin 0.3: the widened box ends at x 212
+    plain = foreground_mask(frame, [box], opening=1)
+    assert plain[80:84, 170:180].all() and not plain[80:84, 180:212].any()  # the arm ends at the sleeve
+    mask = foreground_mask(frame, [box], opening=1, arm_margin=0.45)
+    assert mask[80:84, 170:220].all()
+    frame[180:184, 180:220] = (140, 170, 230)  # the same colour at leg height
+    low = foreground_mask(frame, [box], opening=1, arm_margin=0.45)
+    assert not low[180:184, 215:220].any()

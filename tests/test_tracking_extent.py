@@ -202,6 +202,27 @@ def test_box_grows_over_the_foreground_of_spread_arms():
     np.testing.assert_allclose(result.boxes[0], (162.0, 106.0, 76.0, 288.0))
 
 
+def test_a_spread_arm_s_bare_forearm_beyond_the_background_margin_is_reached():
+    """A dancer spreads her arms: sleeves of her shirt's colour to the elbows, bare forearms and hands beyond, out
+    past ``pixel_margin`` (0.3 x her height) from her box; the detector left the arms out. The forearms' colour is
+    nowhere else in the frame, so where it lies outside the widened box it enters the background sample, and the
+    whole forearm comes out as background: the arm seems to end at the sleeve. With ``pixel_arm_margin`` the arm
+    rows are left out of the sample as far as a hand reaches, and the box takes the whole arm (seed 3136 tango)."""
+    frame = _arms_scene(60.0)
+    for shoulder, elbow, hand in ((172, 116, 60), (228, 284, 340)):  # hands 0.35 x 288 px beyond the box's sides
+        cv2.line(frame, (shoulder, 163), (elbow, 163), (200, 60, 40), 12)  # sleeve
+        cv2.line(frame, (elbow, 163), (hand, 163), (140, 170, 230), 12)  # bare forearm
+    boxes = [(162.0, 106.0, 76.0, 288.0)]  # arms-down box
+    reach = {}
+    for arm_margin in (0.45, None):
+        tracker = MultiDancerTracker(_arms_scene(60.0), boxes, MultiTrackerConfig(pixel_arm_margin=arm_margin))
+        for _ in range(8):
+            x, _, w, _ = tracker.extend_to_poses(frame, [None], [None]).boxes[0]
+        reach[arm_margin] = (x, x + w)
+    assert reach[0.45][0] <= 60 + 10 and reach[0.45][1] >= 340 - 10, reach  # the hands
+    assert 116 - 10 <= reach[None][0] < 162 - 20 and 238 + 20 < reach[None][1] <= 284 + 10, reach  # the sleeves
+
+
 def test_no_pixel_growth_onto_the_arm_of_a_dancer_beside():
     """An arm that runs from one dancer's body to the body of a dancer level with it may be either's: neither box
     grows onto it. Free of the other dancer, the arm extends its own dancer's box."""
@@ -347,6 +368,32 @@ def test_no_pixel_growth_onto_the_arm_of_a_dancer_in_front_that_crosses_the_box(
     assert box[0] + box[2] > 380 + 30, box
     box = grown(off)  # the rule off: A's box grows over B's arm although B's skeleton draws it
     assert box[0] + box[2] > 380 + 30, box
+
+
+def test_no_pixel_growth_onto_an_arm_rooted_at_the_shoulder_of_a_dancer_in_front():
+    """A tall dancer B in front spreads an arm at his shoulder height across the box of a much shorter dancer A
+    further back, level with A's chest, and on beyond A's side; his pose draws the arm in and his box does not
+    reach it. The run from A's side starts at B's shoulder row, where A has no shoulder: it is B's arm and A's box
+    keeps its width (``front_limb_root``; hdvr synth seed 2966 hip-hop), also where her GrabCut segment takes the arm
+    in (``grabcut_extent``; seed 2784 ballet). With the rule off it grows onto the arm."""
+    boxes = [(330.0, 100.0, 50.0, 220.0), (262.0, 160.0, 76.0, 288.0)]  # A (behind, shoulders at y 144), B (218)
+    frame = np.full((H, W, 3), (70, 150, 190), np.uint8)
+    frame[330:] = (90, 90, 90)
+    frame[330::24] = (130, 130, 130)
+    _figure(frame, 355.0, 100.0, 220.0, (40, 180, 40), 15.0)  # A, arms down
+    kp_b = _figure(frame, 300.0, 160.0, 288.0, (200, 60, 40), 40.0)  # B, arms down in his pose ...
+    cv2.line(frame, (int(kp_b[5, 0]), 215), (430, 215), (200, 60, 40), 12)  # ... one spread over A to x 430
+    reported = {}
+    for root, grabcut in ((0.05, False), (0.05, True), (None, False)):
+        config = MultiTrackerConfig(grabcut_extent=grabcut, front_limb_root=root)
+        tracker = MultiDancerTracker(frame, boxes, config)
+        assert tracker._bodies_overlap(boxes[0], boxes[1]) < config.pose_stack_overlap  # not stacked
+        for _ in range(5):
+            tracker.extend_to_poses(frame, [None, _pose(kp_b)], [None, 0.6])
+        reported[root, grabcut] = tracker._reported(tracker.dancers[0])
+    np.testing.assert_allclose(reported[0.05, False], boxes[0], atol=1e-6)
+    np.testing.assert_allclose(reported[0.05, True], boxes[0], atol=1e-6)  # nor from her own GrabCut segment
+    assert reported[None, False][0] + reported[None, False][2] > 380 + 30, reported[None, False]
 
 
 def test_a_run_longer_than_the_reach_is_followed_to_where_it_ends():

@@ -241,10 +241,11 @@ def refine_boxes(boxes: np.ndarray, status, keypoints: np.ndarray, refiner: Amod
                  statuses=(TRACKED,), weights: str | os.PathLike | None = None) -> np.ndarray:
     """``boxes`` (T, N, 4) px with the box of each dancer whose status is in ``statuses`` (default: seen) moved to
     the whole-body box ``refiner`` predicts (default: the weights at ``weights``, :func:`load_refiner`, loaded only
-    when a box is to be moved). Other boxes, and rows without a box, are kept; the input is not changed. A run without a single keypoint (tracked
-    with no pose detector) is returned as it is: the refiner learned from runs with one, and a box alone says too
-    little. Frames of a run with poses where a dancer has none are refined (they are about 8 % of the frames seen,
-    and leaving them out lost a clip of 120 fresh ones: docs/benchmarks.md "session 52")."""
+    when a box is to be moved). Other boxes, and rows without a box, are kept; the input is not changed. A run
+    without a single keypoint (tracked with no pose detector) is returned as it is: the refiner learned from runs
+    with one, and a box alone says too little. Frames of a run with poses where a dancer has none are refined
+    (they are about 8 % of the frames seen, and leaving them out lost a clip of 120 fresh ones: docs/benchmarks.md
+    "session 52")."""
     boxes = np.asarray(boxes, float)
     if not (np.asarray(keypoints, float)[..., 2] > 0).any():
         return boxes.copy()

@@ -104,7 +104,8 @@ def box_inside(inner, outer) -> float:
 def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: float = 1e-4,
                     min_background: float = 0.1, opening: int = 3,
                     margin_fallbacks: tuple[float, ...] = (0.5, 0.25),
-                    ring_common: float | None = None) -> np.ndarray | None:
+                    ring_common: float | None = None, arm_rows: tuple[float, float] = (0.05, 0.6),
+                    arm_margin: float | None = None) -> np.ndarray | None:
     """bool mask (frame height, width) of the pixels whose colour is rare in the background: the background is
     every pixel outside ``boxes`` (x, y, w, h px, NaN rows ignored), each widened by ``margin`` = (sideways, up and
     down) x its height on each side (a dancer's spread arms reach beyond its box); a pixel is foreground when the
@@ -115,7 +116,10 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
     that fills more than this fraction of the ring between the boxes and the widened boxes, and of the ring on both
     sides of some box (left and right of it within its widened box), is background too: the floor where the widened
     boxes cover all of it shows on both sides of a dancer, a person whom no box holds, standing beside her, on one
-    side only (:func:`_spread`); None: off.
+    side only (:func:`_spread`); None: off. ``arm_margin``: the rows ``arm_rows`` of each box (x its height from its
+    top) are left out of the background further sideways, this x its height on each side: a spread arm's hand and
+    forearm reach past ``margin``, and in the sample their colour (skin) would be background, so that the arm
+    seemed to end at the sleeve (hdvr synth seed 3136 tango); None: off.
     Needs no frame history, so it works with a moving camera, as long as the dancers' clothes and skin differ in
     colour from the floor and walls around them.
 
@@ -134,6 +138,11 @@ def foreground_mask(frame_bgr: np.ndarray, boxes, margin=(0.3, 0.3), rarity: flo
             if r is not None:
                 background[r[1]:r[3], r[0]:r[2]] = False
                 widened.append((box, r))
+            if arm_margin is not None:
+                ma = arm_margin * bh * shrink
+                a = clip_box((x - ma, y + arm_rows[0] * bh, bw + 2 * ma, (arm_rows[1] - arm_rows[0]) * bh), (w, h))
+                if a is not None:
+                    background[a[1]:a[3], a[0]:a[2]] = False
         count = int(background.sum())
         if count >= min_background * h * w:
             break

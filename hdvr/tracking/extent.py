@@ -227,34 +227,81 @@ class ReportedExtent:
             return 0.0, 0.0
         left, right = self._run_reach(d.box, others, fg, dancer=d, chosen=(poses, margins))
         if c.pixel_front_limb and (left > 0 or right > 0):
-            left, right = self._not_front_limbs(d, (left, right), fg.shape, poses, margins)
+            left, right = self._not_front_limbs(d, (left, right), fg, poses, margins)
         return left, right
 
-    def _not_front_limbs(self, d: DancerTrack, reach, shape, poses, margins) -> tuple[float, float]:
+    def _not_front_limbs(self, d: DancerTrack, reach, fg: np.ndarray, poses, margins) -> tuple[float, float]:
         """``reach`` (px, left and right of tracked dancer ``d``'s box, :meth:`_run_reach`) less each run that is the
         limb of a tracked dancer whose box overlaps ``d``'s and in front of whom ``d`` does not stand
         (:func:`~hdvr.tracking.state.stands_in_front` with ``pixel_front``): that dancer's clearly chosen pose
         (``pose_margin``) draws a limb on the run's columns at ``d``'s arm rows (``pixel_band``), or its reported box
         already reaches as far as the run (its own evidence put its limb there), and ``d``'s own pose, if chosen
-        clearly, draws none there. Such an arm crosses ``d``'s box from the dancer in front and runs on beyond it,
-        so the run starts at ``d``'s side without reaching any body core (seed 2865 hip-hop: a dancer waiting behind
-        another took his spread arm for hers and her box doubled in width)."""
+        clearly, draws none there; or (``front_limb_root``) the run is rooted at that dancer's shoulder row and not
+        at ``d``'s (:meth:`_rooted_at_shoulder`). Such an arm crosses ``d``'s box from the dancer in front and runs
+        on beyond it, so the run starts at ``d``'s side without reaching any body core (seed 2865 hip-hop: a dancer
+        waiting behind another took his spread arm for hers and her box doubled in width). ``fg``: the frame's
+        foreground mask (:meth:`_foreground`)."""
         c = self.config
+        shape = fg.shape
         x, y, w, h = d.box
         r0, r1 = y + c.pixel_band[0] * h, y + c.pixel_band[1] * h
         strips = ((x - reach[0], r0, reach[0], r1 - r0), (x + w, r0, reach[1], r1 - r0))
-        fronts = [o for o in self.dancers if o is not d and o.status == TRACKED and box_overlap(o.box, d.box) > 0
-                  and not stands_in_front(d.box, o.box, c.pixel_front)]
+        fronts = self._fronts_of(d)
         out = list(reach)
         for side, strip in enumerate(strips):
             if reach[side] <= 0:
                 continue
             end = strip[0] if side == 0 else strip[0] + strip[2]
             theirs = any(self._clearly_draws_limb(o, strip, shape, poses, margins)
-                         or self._reaches_past(o, end, side) for o in fronts)
+                         or self._reaches_past(o, end, side) or self._rooted_at_shoulder(o, d, side, fg)
+                         for o in fronts)
             if theirs and not self._clearly_draws_limb(d, strip, shape, poses, margins):
                 out[side] = 0.0
         return out[0], out[1]
+
+    def _fronts_of(self, d: DancerTrack) -> list[DancerTrack]:
+        """The tracked dancers whose boxes overlap dancer ``d``'s and in front of whom ``d`` does not stand
+        (:func:`~hdvr.tracking.state.stands_in_front` with ``pixel_front``): level with it or in front."""
+        c = self.config
+        return [o for o in self.dancers if o is not d and o.status == TRACKED and box_overlap(o.box, d.box) > 0
+                and not stands_in_front(d.box, o.box, c.pixel_front)]
+
+    def _not_rooted_at_fronts(self, d: DancerTrack, reach, fg: np.ndarray) -> tuple[float, float]:
+        """``reach`` (px, left and right of dancer ``d``'s box) less each run rooted at the shoulder row of a
+        dancer level with it or in front (:meth:`_fronts_of`, :meth:`_rooted_at_shoulder`)."""
+        fronts = self._fronts_of(d)
+        return tuple(0.0 if r > 0 and any(self._rooted_at_shoulder(o, d, side, fg) for o in fronts) else r
+                     for side, r in enumerate(reach))
+
+    def _rooted_at_shoulder(self, o: DancerTrack, d: DancerTrack, side: int, fg: np.ndarray) -> bool:
+        """Whether the foreground just beside tracked dancer ``d``'s box on ``side`` (0 left, 1 right; its first
+        max(3, ``front_limb_root`` x the box height) columns) lies at dancer ``o``'s shoulder row and hardly at
+        ``d``'s (``shoulder_row`` down each box; within ``front_limb_root`` x ``d``'s height of it: at least 3 px a
+        column on average there, under a quarter of that at ``d``'s, where the edge of its own body may show), the
+        two rows at least that far apart (each window then at most half the distance high, so that they do not
+        overlap). An arm leaves its body at the shoulder, so a run rooted at the height of ``o``'s shoulders, where
+        ``d`` has none, is ``o``'s arm crossing ``d``'s box (seed 2966 hip-hop: a dancer in front spread an arm the
+        detector drew in, level with the chest of a shorter dancer further back). False with ``front_limb_root``
+        None."""
+        c = self.config
+        if c.front_limb_root is None:
+            return False
+        x, y, w, h = d.box
+        tol = c.front_limb_root * h
+        own_row, their_row = y + c.shoulder_row * h, o.box[1] + c.shoulder_row * o.box[3]
+        depth = max(3, int(round(tol)))
+        if abs(own_row - their_row) < tol:
+            return False
+        tol = min(tol, abs(own_row - their_row) / 2)  # the two windows do not overlap
+        start = int(np.floor(x)) - depth if side == 0 else int(np.ceil(x + w))
+        cols = slice(max(0, start), max(0, start + depth))
+
+        def per_column(row: float) -> float:
+            window = fg[max(0, int(row - tol)):max(0, int(np.ceil(row + tol))), cols]
+            return float(window.sum(axis=0).mean()) if window.size else 0.0
+
+        theirs = per_column(their_row)
+        return theirs >= 3.0 and per_column(own_row) < 0.25 * theirs
 
     def _clear_pose_draws_limb(self, o: DancerTrack, strip, shape, poses, margins) -> bool | None:
         """Whether the pose chosen clearly for dancer ``o`` on this frame (``poses``, ``margins``:
@@ -535,8 +582,9 @@ class ReportedExtent:
         full = np.zeros((height, width), bool)
         full[y0:y1, x0:x1] = mine > 0
         others = [o for o in self.dancers if o is not d and o.status != OUT]
-        return self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows, dancer=d,
-                               chosen=(poses, margins))
+        reach = self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows, dancer=d,
+                                chosen=(poses, margins))
+        return self._not_rooted_at_fronts(d, reach, fg)  # the front dancer's arm has the colours of its skin too
 
     def _pose_extends(self, d: DancerTrack, pose, margin, poses) -> bool:
         """Whether ``pose``, chosen for dancer ``d`` with selection ``margin``, may extend its reported box (the

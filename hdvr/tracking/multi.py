@@ -678,6 +678,10 @@ class MultiTrackerConfig:
     # it, 0.883 -> 0.997. Over 1,397 hdvr synth clips 49 -> 48 failing, 4 clips up, 1 down by 0.002 (session 79; in
     # session 78 the same without the both-sides test, left off for the person beside). At margin 0.45 (a spread
     # arm's reach): 49 -> 50 (docs/benchmarks.md "Session 78")
+    pixel_arm_margin: float | None = 0.45  # ... and at arm height (``pixel_band``) this x their height sideways
+    # (shoulder to fingertip is about 0.45 of the stature): a spread arm's hand and forearm reach past
+    # ``pixel_margin``, their colour (skin) was background in the sample, and the arm seemed to end at the sleeve
+    # (:func:`hdvr.tracking.appearance.foreground_mask`'s ``arm_margin``; hdvr synth seed 3136 tango). None: off
     pixel_max_fill: float = 0.4  # a column more than this full of foreground (of the band's rows) is no arm: a
     # body beside the box, or background whose colour the sample around the dancers lacks; the run stops there
     pixel_full_in_box: bool = True  # ... and where that column lies in the box of a dancer standing level or in
@@ -691,6 +695,12 @@ class MultiTrackerConfig:
     # level or in front, crossing it when that dancer's clearly chosen pose draws a limb there or its reported box
     # reaches as far (and this dancer's own clear pose, if any, draws none): that side gets nothing
     # (:meth:`MultiDancerTracker._not_front_limbs`; seed 2865 hip-hop)
+    front_limb_root: float | None = 0.05  # ... and so is a run whose first columns beside the box hold foreground
+    # within this x the box height of that dancer's shoulder row (``shoulder_row`` down its box) and hardly any
+    # within it of this dancer's, the two rows at least this apart (windows narrowed to half the distance): an arm
+    # leaves the body at its shoulder, and the detector drew the front dancer's spread arm in (seeds 2966 hip-hop
+    # and, by the GrabCut extent, 2784 ballet, with ``pixel_arm_margin``). None: off
+    shoulder_row: float = 0.2  # x a box's height from its top: about where a standing dancer's shoulders are
     stacked_extent: bool = True  # a dancer hidden straight behind another reaches as far as foreground runs on
     # from the front dancer's box beyond that dancer's own skeleton (:meth:`MultiDancerTracker._stacked_reach`)
     stacked_tolerance: float = 0.1  # x the front dancer's height: a shorter run is no limb
@@ -1821,7 +1831,8 @@ class MultiDancerTracker(ReportedExtent):
         cached = self._foreground_cache  # (frame, boxes, mask): the frame itself is held, so it is that very array
         if cached is None or cached[0] is not frame or cached[1] != boxes:
             mask = foreground_mask(frame, list(boxes), margin=c.pixel_margin, opening=c.pixel_opening,
-                                   ring_common=c.pixel_ring_common)
+                                   ring_common=c.pixel_ring_common, arm_rows=c.pixel_band,
+                                   arm_margin=c.pixel_arm_margin)
             cached = (frame, boxes, mask)
             self._foreground_cache = cached
         return cached[2]
@@ -2421,7 +2432,8 @@ class MultiDancerTracker(ReportedExtent):
             return [True] * len(boxes)
         others = [o.box for o in self.dancers if o is not d and o.status != OUT]
         fg = foreground_mask(frame, others + [d.box] + [tuple(b) for b in boxes], margin=c.pixel_margin,
-                             opening=c.pixel_opening, ring_common=c.pixel_ring_common)
+                             opening=c.pixel_opening, ring_common=c.pixel_ring_common, arm_rows=c.pixel_band,
+                             arm_margin=c.pixel_arm_margin)
         size = (frame.shape[1], frame.shape[0])
         others_clipped = [b for b in (clip_box(o, size) for o in others) if b is not None]
         shows = []
