@@ -266,23 +266,15 @@ class ReportedExtent:
         return [o for o in self.dancers if o is not d and o.status == TRACKED and box_overlap(o.box, d.box) > 0
                 and not stands_in_front(d.box, o.box, c.pixel_front)]
 
-    def _not_rooted_at_fronts(self, d: DancerTrack, reach, fg: np.ndarray) -> tuple[float, float]:
-        """``reach`` (px, left and right of dancer ``d``'s box) less each run rooted at the shoulder row of a
-        dancer level with it or in front (:meth:`_fronts_of`, :meth:`_rooted_at_shoulder`)."""
-        fronts = self._fronts_of(d)
-        return tuple(0.0 if r > 0 and any(self._rooted_at_shoulder(o, d, side, fg) for o in fronts) else r
-                     for side, r in enumerate(reach))
-
     def _rooted_at_shoulder(self, o: DancerTrack, d: DancerTrack, side: int, fg: np.ndarray) -> bool:
         """Whether the foreground just beside tracked dancer ``d``'s box on ``side`` (0 left, 1 right; its first
         max(3, ``front_limb_root`` x the box height) columns) lies at dancer ``o``'s shoulder row and hardly at
         ``d``'s (``shoulder_row`` down each box; within ``front_limb_root`` x ``d``'s height of it: at least 3 px a
         column on average there, under a quarter of that at ``d``'s, where the edge of its own body may show), the
-        two rows at least that far apart (each window then at most half the distance high, so that they do not
-        overlap). An arm leaves its body at the shoulder, so a run rooted at the height of ``o``'s shoulders, where
-        ``d`` has none, is ``o``'s arm crossing ``d``'s box (seed 2966 hip-hop: a dancer in front spread an arm the
-        detector drew in, level with the chest of a shorter dancer further back). False with ``front_limb_root``
-        None."""
+        two rows at least twice that far apart. An arm leaves its body at the shoulder, so a run rooted at the
+        height of ``o``'s shoulders, where ``d`` has none, is ``o``'s arm crossing ``d``'s box (seed 2966 hip-hop: a
+        dancer in front spread an arm the detector drew in, level with the chest of a shorter dancer further back).
+        False with ``front_limb_root`` None."""
         c = self.config
         if c.front_limb_root is None:
             return False
@@ -290,9 +282,8 @@ class ReportedExtent:
         tol = c.front_limb_root * h
         own_row, their_row = y + c.shoulder_row * h, o.box[1] + c.shoulder_row * o.box[3]
         depth = max(3, int(round(tol)))
-        if abs(own_row - their_row) < tol:
+        if abs(own_row - their_row) < 2 * tol:
             return False
-        tol = min(tol, abs(own_row - their_row) / 2)  # the two windows do not overlap
         start = int(np.floor(x)) - depth if side == 0 else int(np.ceil(x + w))
         cols = slice(max(0, start), max(0, start + depth))
 
@@ -582,9 +573,8 @@ class ReportedExtent:
         full = np.zeros((height, width), bool)
         full[y0:y1, x0:x1] = mine > 0
         others = [o for o in self.dancers if o is not d and o.status != OUT]
-        reach = self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows, dancer=d,
-                                chosen=(poses, margins))
-        return self._not_rooted_at_fronts(d, reach, fg)  # the front dancer's arm has the colours of its skin too
+        return self._run_reach(d.box, others, full, own_segment=True, rows=c.grabcut_rows, dancer=d,
+                               chosen=(poses, margins))
 
     def _pose_extends(self, d: DancerTrack, pose, margin, poses) -> bool:
         """Whether ``pose``, chosen for dancer ``d`` with selection ``margin``, may extend its reported box (the
