@@ -281,9 +281,9 @@ class ReportedExtent:
         x, y, w, h = d.box
         tol = c.front_limb_root * h
         own_row, their_row = y + c.shoulder_row * h, o.box[1] + c.shoulder_row * o.box[3]
-        depth = max(3, int(round(tol)))
         if abs(own_row - their_row) < 2 * tol:
             return False
+        depth = max(3, int(round(tol)))
         start = int(np.floor(x)) - depth if side == 0 else int(np.ceil(x + w))
         cols = slice(max(0, start), max(0, start + depth))
 

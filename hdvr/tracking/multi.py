@@ -1826,16 +1826,20 @@ class MultiDancerTracker(ReportedExtent):
         around the tracked boxes of the dancers in the frame (not the reported ones: a reported box grown onto
         background would take that background out of the sample and make it foreground, and grow further).
         Computed once per frame and set of boxes (several tests of a frame may ask for it)."""
-        c = self.config
         boxes = tuple(d.box for d in self.dancers if d.status != OUT)
         cached = self._foreground_cache  # (frame, boxes, mask): the frame itself is held, so it is that very array
         if cached is None or cached[0] is not frame or cached[1] != boxes:
-            mask = foreground_mask(frame, list(boxes), margin=c.pixel_margin, opening=c.pixel_opening,
-                                   ring_common=c.pixel_ring_common, arm_rows=c.pixel_band,
-                                   arm_margin=c.pixel_arm_margin)
-            cached = (frame, boxes, mask)
+            cached = (frame, boxes, self._foreground_around(frame, list(boxes)))
             self._foreground_cache = cached
         return cached[2]
+
+    def _foreground_around(self, frame, boxes) -> np.ndarray | None:
+        """Foreground mask of ``frame`` with the background sampled around ``boxes`` (x, y, w, h px), with the
+        tracker's settings (``pixel_margin``, ``pixel_opening``, ``pixel_ring_common``, ``pixel_arm_margin`` at rows
+        ``pixel_band``): :func:`hdvr.tracking.appearance.foreground_mask`."""
+        c = self.config
+        return foreground_mask(frame, boxes, margin=c.pixel_margin, opening=c.pixel_opening,
+                               ring_common=c.pixel_ring_common, arm_rows=c.pixel_band, arm_margin=c.pixel_arm_margin)
 
     def _foreground_columns(self, frame, d: DancerTrack, skip=None) -> float | None:
         """Fraction of the columns of dancer ``d``'s box that hold max(3, ``pixel_min_thickness`` x the box height)
@@ -2431,9 +2435,7 @@ class MultiDancerTracker(ReportedExtent):
         if min_foreground <= 0 or not boxes:
             return [True] * len(boxes)
         others = [o.box for o in self.dancers if o is not d and o.status != OUT]
-        fg = foreground_mask(frame, others + [d.box] + [tuple(b) for b in boxes], margin=c.pixel_margin,
-                             opening=c.pixel_opening, ring_common=c.pixel_ring_common, arm_rows=c.pixel_band,
-                             arm_margin=c.pixel_arm_margin)
+        fg = self._foreground_around(frame, others + [d.box] + [tuple(b) for b in boxes])
         size = (frame.shape[1], frame.shape[0])
         others_clipped = [b for b in (clip_box(o, size) for o in others) if b is not None]
         shows = []
