@@ -1,16 +1,16 @@
 """Algorithm 1* on procedural crossing clips with known trajectories (scored with trackeval)."""
 
-import dataclasses
 
 import numpy as np
 import pytest
 
 from hdvr.tracking.appearance import box_inside, box_iou, colour_histogram, histogram_similarity
 from hdvr.tracking.evaluation import evaluate_tracking, iou_matrix
-from hdvr.tracking.multi import OCCLUDED, OUT, TRACKED, MultiDancerTracker, MultiTrackerConfig, likely_windows
+from hdvr.tracking.multi import OCCLUDED, OUT, TRACKED, MultiDancerTracker, MultiTrackerConfig
 from hdvr.tracking.state import box_centre, stands_in_front
 from hdvr.tracking.testclips import FIGURE_PALETTE, FigureSpec, default_crossing_specs, render_clip
 from hdvr.video import VideoReader
+from tracking_scenes import two_colour_frame, waiting_behind
 
 
 def _run(path, truth, detections=None):
@@ -226,52 +226,6 @@ def test_dancer_leaving_without_detector_is_out(tmp_path):
     out = np.array([s[1] == OUT for s in status])
     assert out[gone].all() and not out[:50].any(), np.flatnonzero(out)
     assert not any(s[0] == OUT for s in status)
-
-
-def test_overlapping_dancer_box_adapts_to_its_detection(tmp_path):
-    """With ``adapt_in_groups``, a dancer overlapping another adapts its box to a detection that fits it clearly
-    better than anyone else, and not to an ambiguous one."""
-    truth = render_clip(tmp_path / "clip.mp4", frames=2, specs=default_crossing_specs(num_figures=2, seed=0))
-    frames = list(VideoReader(tmp_path / "clip.mp4"))
-    a = (300.0, 120.0, 80.0, 280.0)
-    tracker = MultiDancerTracker(frames[0], [a, (330.0, 200.0, 60.0, 200.0)])
-    d = tracker.dancers[0]
-    wide = (285.0, 118.0, 140.0, 284.0)  # dancer 0 with spread arms: fits it, not the smaller dancer 1
-    tracker._adapt_in_group(frames[1], [d], [wide, (332.0, 198.0, 58.0, 204.0)])
-    assert d.box[2] > a[2] + 20  # half-way towards the detected width
-    tracker2 = MultiDancerTracker(frames[0], [a, (305.0, 125.0, 78.0, 275.0)])
-    before = tracker2.dancers[0].box
-    tracker2._adapt_in_group(frames[1], [tracker2.dancers[0]], [wide])  # fits both dancers alike: ambiguous
-    assert tracker2.dancers[0].box == before
-    assert truth.boxes.shape == (2, 2, 4)
-
-
-def test_occluded_dancer_reidentified_beside_a_dancer_holding_its_detection(tmp_path):
-    """A detection that overlaps a tracked dancer's body core re-identifies an occluded dancer when that tracked
-    dancer holds a detection of its own beside it; a box around both does not, nor does the option off."""
-    truth = render_clip(tmp_path / "clip.mp4", frames=67, specs=default_crossing_specs(num_figures=2, seed=0))
-    frames = list(VideoReader(tmp_path / "clip.mp4"))
-    front, back = (tuple(float(v) for v in b) for b in truth.boxes[66])  # cores overlap by 0.3 here
-    both = (min(front[0], back[0]), min(front[1], back[1]),
-            max(front[0] + front[2], back[0] + back[2]) - min(front[0], back[0]),
-            max(front[1] + front[3], back[1] + back[3]) - min(front[1], back[1]))
-
-    def reidentified(detections, config=None) -> bool:
-        tracker = MultiDancerTracker(frames[0], truth.boxes[0], config)
-        for t in range(1, 66):
-            tracker.step(frames[t], [tuple(b) for b in truth.boxes[t]])
-        d0, d1 = tracker.dancers
-        assert (d0.status, d1.status) == (TRACKED, TRACKED)
-        assert tracker._bodies_overlap(front, d1.box) > tracker.config.overlap_threshold
-        d0.status = OCCLUDED  # the front dancer lost, e.g. after a sudden stop
-        tracker._reidentify(frames[66], [d0], [d1.box], detections)
-        if d0.status == TRACKED:
-            assert d0.box == front
-        return d0.status == TRACKED
-
-    assert reidentified([front, back])
-    assert not reidentified([both, back])
-    assert not reidentified([front, back], MultiTrackerConfig(reid_beside_held=False))
 
 
 def test_dancer_reenters_at_the_edge_without_detector(tmp_path):
@@ -549,87 +503,6 @@ def test_size_ratio_not_learned_from_a_detection_on_a_stack():
     assert old.dancers[0].size_ratio is not None and old.dancers[1].size_ratio is not None
 
 
-def test_a_couple_that_walks_away_together_shrinks_together():
-    """Two dancers who overlap all along keep the box size they met with unless their group scales: as both
-    detections shrink alike the boxes shrink with them, keeping their own size convention (a box 10 % larger than
-    the detector's stays so); a change seen on one dancer's detection alone (cut by the one in front) scales
-    nothing. (The second starts straight behind the first, so ``front_of_waiting_clear`` would make the first
-    clear of it, not a group: off for the run through ``step``.)"""
-    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
-    boxes = [(300.0, 100.0, 70.0, 250.0), (330.0, 110.0, 66.0, 220.0)]  # cores overlap: one group
-    tracker = MultiDancerTracker(frame, boxes)
-    group = list(tracker.dancers)
-    assert len(tracker._groups(group)) == 1
-
-    def detections(scale_a, scale_b):  # detector boxes 10 % smaller than the dancers' boxes, scaled about them
-        out = []
-        for (x, y, w, h), s in zip(boxes, (scale_a, scale_b)):
-            cx, cy, dw, dh = x + w / 2, y + h / 2, w / 1.1 * s, h / 1.1 * s
-            out.append((cx - dw / 2, cy - dh / 2, dw, dh))
-        return out
-
-    tracker._scale_groups(group, detections(1.0, 1.0))  # the first frame together only records the reference
-    assert [d.box for d in tracker.dancers] == boxes
-    for _ in range(20):
-        tracker._scale_groups(group, detections(0.8, 0.8))
-    for d, box in zip(tracker.dancers, boxes):
-        assert d.box[3] == pytest.approx(0.8 * box[3], rel=0.02) and d.box[2] == pytest.approx(0.8 * box[2], rel=0.02)
-        assert d.center == pytest.approx([box[0] + box[2] / 2, box[1] + box[3] / 2])  # about the centre
-    alone = MultiDancerTracker(frame, boxes)
-    alone._scale_groups(list(alone.dancers), detections(1.0, 1.0))
-    for _ in range(5):
-        alone._scale_groups(list(alone.dancers), detections(1.0, 0.7))  # only the one behind: cut, not receding
-    assert [d.box for d in alone.dancers] == boxes
-    alone._scale_groups([], detections(1.0, 1.0))  # apart: the reference is dropped
-    assert all(d.group_reference is None for d in alone.dancers)
-    heights = {}
-    for rule in (True, False):  # through step(): the group scales with the rule, keeps its size without
-        stepped = MultiDancerTracker(frame, boxes, MultiTrackerConfig(group_scale=rule, front_of_waiting_clear=False))
-        for scale in (1.0,) + (0.8,) * 6:
-            stepped.step(frame, detections(scale, scale))
-        heights[rule] = [d.box[3] for d in stepped.dancers]
-    assert all(h < 0.9 * b[3] for h, b in zip(heights[True], boxes)), heights[True]
-    assert heights[False] == pytest.approx([b[3] for b in boxes], abs=1e-6)
-
-
-def test_a_couple_seen_as_one_person_shrinks_with_that_person_box():
-    """The detector often draws one person box over a couple in hold. When that one box holds both body cores and
-    no other detection touches them, the couple's boxes scale as it does (``group_scale_shared``; seed 201 tango of
-    hdvr synth, a couple receding from 285 to 205 px: IDF1 0.867 -> 1.000); a box over one dancer's core only, or
-    a second detection on the group, scales nothing."""
-    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
-    boxes = [(300.0, 100.0, 70.0, 250.0), (330.0, 110.0, 66.0, 220.0)]  # cores overlap: one group
-
-    def couple(scale):  # one box around both dancers, scaled about its centre
-        x0, y0, x1, y1 = 295.0, 95.0, 401.0, 355.0
-        cx, cy, w, h = (x0 + x1) / 2, (y0 + y1) / 2, (x1 - x0) * scale, (y1 - y0) * scale
-        return [(cx - w / 2, cy - h / 2, w, h)]
-
-    for config, dets, shrinks in ((MultiTrackerConfig(), couple, True),
-                                  (MultiTrackerConfig(group_scale_shared=False), couple, False),
-                                  (MultiTrackerConfig(), lambda s: [(290.0, 90.0, 60.0 * s, 270.0 * s)], False),
-                                  (MultiTrackerConfig(), lambda s: couple(s) + [(340.0, 120.0, 40.0, 200.0)], False)):
-        tracker = MultiDancerTracker(frame, boxes, config)
-        group = list(tracker.dancers)
-        tracker._scale_groups(group, dets(1.0))  # records the reference
-        for _ in range(20):
-            tracker._scale_groups(group, dets(0.8))
-        heights = [d.box[3] for d in tracker.dancers]
-        if shrinks:
-            assert heights == pytest.approx([0.8 * b[3] for b in boxes], rel=0.02), heights
-        else:
-            assert heights == pytest.approx([b[3] for b in boxes]), heights
-    # a group that held a detection each and then one shared box starts a new reference: no jump in between
-    tracker = MultiDancerTracker(frame, boxes)
-    group = list(tracker.dancers)
-    own = [(b[0] + 3, b[1] + 10, b[2] - 6, b[3] - 20) for b in boxes]
-    tracker._scale_groups(group, own)
-    assert all(d.group_reference[2] is False for d in tracker.dancers)
-    tracker._scale_groups(group, couple(1.0))
-    assert all(d.group_reference[2] is True for d in tracker.dancers)
-    assert [d.box for d in tracker.dancers] == boxes
-
-
 def test_still_dancer_moving_off_onto_another_look_is_a_tracking_failure():
     """A still dancer (no stored velocity) whose tracker moves off is dragged when it moves like a dancer it
     overlaps; when that dancer's own tracker is lost its motion is unknown, and the sign is that the box no longer
@@ -732,74 +605,6 @@ def test_couple_in_hold_moving_together_is_not_a_dragged_tracker():
     assert dragged(clump)
 
 
-def _blue_and_red(seed: int, blue_box, red_box):
-    """A noisy background (random ``seed``) and a first frame on it with a blue dancer at ``blue_box`` (the one
-    followed) and a red one at ``red_box`` (the one that will be occluded): plain rectangles, boxes x, y, w, h px."""
-    background = np.random.default_rng(seed).integers(90, 160, (480, 640, 3), dtype=np.uint8)
-    first = background.copy()
-    for (x, y, w, h), colour in ((blue_box, (200, 40, 30)), (red_box, (30, 40, 210))):  # BGR
-        first[int(y):int(y + h), int(x):int(x + w)] = colour
-    return background, first
-
-
-def test_occluded_dancer_reidentified_beside_a_dancer_without_a_detection():
-    """A detection beside a tracked dancer that holds no detection of its own (hidden behind someone else)
-    re-identifies an occluded dancer when its colours match that dancer's memory clearly better than the tracked
-    one's; a box much taller than the dancer's (YOLO's box around two figures) does not, nor one that matches the
-    tracked dancer's memory about as well, nor does the option off."""
-    tracked_box, hidden_box = (200.0, 100.0, 60.0, 200.0), (420.0, 100.0, 60.0, 200.0)
-    background, first = _blue_and_red(2, tracked_box, hidden_box)
-    beside = (245.0, 100.0, 60.0, 200.0)  # its body core overlaps the tracked dancer's by a quarter
-    later = background.copy()
-    later[100:300, 245:305] = (30, 40, 210)
-    later[100:300, 200:250] = (200, 40, 30)  # the tracked dancer, partly hidden behind it
-
-    def reidentified(detection, config=None, start=first) -> bool:
-        tracker = MultiDancerTracker(start, [tracked_box, hidden_box], config)
-        still, hidden = tracker.dancers
-        hidden.status, hidden.box = OCCLUDED, beside
-        assert tracker.config.overlap_threshold < tracker._bodies_overlap(detection, still.box) < 0.5
-        tracker._reidentify(later, [hidden], [hidden_box], [detection])  # its own tracker: on the background
-        if hidden.status == TRACKED:
-            assert hidden.box == detection
-        return hidden.status == TRACKED
-
-    assert reidentified(beside)
-    assert not reidentified((245.0, 40.0, 60.0, 300.0))  # 1.5 x the dancer's height
-    assert not reidentified(beside, MultiTrackerConfig(reid_beside_unheld=False))
-    alike = first.copy()
-    alike[100:300, 200:260] = (40, 50, 200)  # the tracked dancer dressed like the hidden one: it may be either
-    assert not reidentified(beside, start=alike)
-
-
-def test_the_reidentification_radius_grows_with_the_frames_since_the_dancer_was_last_seen_clear():
-    """Behind the dancers in front an occluded dancer may walk elsewhere than predicted; a detection that looks like
-    it is taken farther from its prediction the longer it has been out of sight (``reid_radius_growth`` box heights a
-    frame, up to ``reid_radius_cap``; hdvr synth seed 2922 flamenco: she walked 170 px behind a dancer in front
-    while her prediction stood still, IDF1 0.897 -> 0.911), never beyond the cap, and not with the growth off."""
-    front_box, hidden_box = (40.0, 100.0, 60.0, 200.0), (420.0, 100.0, 60.0, 200.0)
-    background, first = _blue_and_red(3, front_box, hidden_box)  # a dancer elsewhere, and the one to be occluded
-
-    def reidentified(shift: float, frames_hidden: int, config=None) -> bool:
-        tracker = MultiDancerTracker(first, [front_box, hidden_box], config)
-        hidden = tracker.dancers[1]
-        hidden.status, hidden.stored_frame = OCCLUDED, 0
-        tracker.frame_index = frames_hidden
-        detection = (hidden_box[0] - shift, *hidden_box[1:])
-        later = background.copy()
-        later[100:300, 40:100] = (200, 40, 30)
-        later[100:300, int(detection[0]):int(detection[0]) + 60] = (30, 40, 210)
-        tracker._reidentify(later, [hidden], [hidden_box], [detection])  # its own tracker: on the background
-        return hidden.status == TRACKED and hidden.box == detection
-
-    base = 2 * MultiTrackerConfig().min_search_radius * hidden_box[3]  # 100 px
-    assert reidentified(0.8 * base, 1)
-    assert not reidentified(1.5 * base, 1)  # just hidden: too far from where it was
-    assert reidentified(1.5 * base, 30)  # out of sight for a second: it may have walked there
-    assert not reidentified(1.5 * base, 30, MultiTrackerConfig(reid_radius_growth=0.0))
-    assert not reidentified(2.5 * base, 300)  # beyond the cap (1 box height)
-
-
 def _reidentified_beside_unheld(first, later, start_boxes, occluded_box, detection, config=None) -> bool:
     """Whether dancer 1 of a tracker started on ``first`` with ``start_boxes``, occluded at ``occluded_box``, is
     re-identified in ``later`` on ``detection``, which overlaps tracked dancer 0's body core (by less than half) and
@@ -839,61 +644,6 @@ def test_an_occluded_dancer_is_not_reidentified_on_a_box_around_a_dancer_without
     assert reidentified(1.5)
 
 
-def test_an_occluded_dancer_is_reidentified_on_the_detection_of_the_dancer_waiting_behind_it():
-    """A dancer waiting behind another since its start shows nothing of its own: a detection its box takes, over its
-    body core, shows the dancer it waits behind. With ``reid_past_waiting`` (on) an occluded dancer is
-    re-identified there (hdvr synth seed 3038 hip-hop: a dancer occluded in a floor move stood up clear of everyone
-    but the dancer hidden behind her, whose box took her detection; 0.721 with 3 switches -> 0.988); without it the
-    detection is that dancer's and the occluded one's box is predicted on."""
-    rng = np.random.default_rng(4)
-    background = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
-    front_box, waiting_box = (200.0, 100.0, 70.0, 220.0), (215.0, 90.0, 40.0, 190.0)
-    frame = background.copy()
-    frame[100:320, 200:270] = (30, 40, 210)  # the red dancer in front; the one behind it shows nothing
-    detection = (205.0, 105.0, 62.0, 212.0)  # the red dancer again, standing up where she was
-
-    def reidentified(on: bool) -> bool:
-        tracker = MultiDancerTracker(frame, [front_box, waiting_box], MultiTrackerConfig(reid_past_waiting=on))
-        front, waiting = tracker.dancers
-        assert waiting.hidden_behind == front.dancer_id and waiting.status == TRACKED
-        front.status, front.box = OCCLUDED, (240.0, 80.0, 70.0, 220.0)  # predicted on, up and to the right
-        assert tracker._claims([detection]) == {waiting.dancer_id: 0}  # the waiting dancer's box takes it
-        tracker._reidentify(frame, [front], [(560.0, 100.0, 70.0, 220.0)], [detection])  # own tracker astray
-        return front.status == TRACKED and box_iou(front.box, detection) > 0.5
-
-    assert reidentified(True)
-    assert not reidentified(False)
-    assert MultiTrackerConfig().reid_past_waiting
-
-
-def test_an_occluded_dancer_is_not_reidentified_on_a_box_around_a_pile_of_dancers():
-    """A detection that holds the body cores of two or more other dancers (``reid_pile_cores``; occluded ones at
-    their predicted boxes) is a box around a pile of figures, not one of them coming out: procedural crossings with
-    the detector, three figures piled up, all occluded, one re-identified on YOLO's box around the pile (3 figures
-    seed 7; 4 figures seed 3) and kept its size to the end."""
-    rng = np.random.default_rng(3)
-    background = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
-    first = background.copy()
-    starts = [(60.0, 100.0, 60.0, 200.0), (300.0, 100.0, 60.0, 200.0), (520.0, 100.0, 60.0, 200.0)]
-    for (x, y, w, h), colour in zip(starts, [(200, 40, 30), (40, 200, 30), (30, 40, 210)]):
-        first[int(y):int(y + h), int(x):int(x + w)] = colour
-    pile = [(250.0, 100.0, 60.0, 200.0), (270.0, 100.0, 60.0, 200.0), (260.0, 100.0, 60.0, 200.0)]
-    around = (240.0, 80.0, 100.0, 230.0)  # about the pile, 1.15 x a dancer's height
-    later = background.copy()
-    later[80:310, 240:340] = (30, 40, 210)  # the red dancer in front of the pile
-
-    def reidentified(config) -> bool:
-        tracker = MultiDancerTracker(first, starts, config)
-        for d, box in zip(tracker.dancers, pile):
-            d.status, d.box, d.stored_box = OCCLUDED, box, box
-        tracker._reidentify(later, tracker.dancers, starts, [around])  # their own trackers: on the background
-        return tracker.dancers[2].status == TRACKED
-
-    assert not reidentified(MultiTrackerConfig(reid_pile_cores=2))
-    assert reidentified(MultiTrackerConfig(reid_pile_cores=None))
-    assert reidentified(MultiTrackerConfig(reid_pile_cores=3))
-
-
 def test_an_occluded_dancer_is_not_reidentified_on_a_wide_part_of_a_dancer_without_a_detection():
     """Beside a tracked dancer without a detection of its own, a detection much wider for its height than the
     occluded dancer's box (``reid_unheld_aspect``: 2 x) is most likely a part of the tracked dancer that YOLO drew
@@ -915,51 +665,6 @@ def test_an_occluded_dancer_is_not_reidentified_on_a_wide_part_of_a_dancer_witho
 
     assert not reidentified()
     assert reidentified(MultiTrackerConfig(reid_unheld_aspect=float("inf")))
-
-
-def test_an_occluded_dancer_takes_the_detection_of_a_dancer_whose_box_shows_it():
-    """A tracked dancer at the back whose box now shows an occluded dancer come out in front of it, and holds
-    that dancer's detection, hands the detection over (``reid_from_holder``): the occluded dancer is tracked
-    there, the dancer at the back is occluded and forgets the size ratio it learned from the detection (hdvr synth
-    seed 503 ballet). Not when the detection matches the holder's memory as well, nor when it stands level with the
-    holder (hdvr synth seed 301 hip-hop), nor when it covers only part of the holder's width (seed 609 ballet), nor
-    with the option off."""
-    rng = np.random.default_rng(3)
-    background = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
-    back_box, hidden_box = (200.0, 120.0, 50.0, 160.0), (420.0, 100.0, 60.0, 200.0)
-    first = background.copy()
-    first[120:280, 200:250] = (200, 40, 30)  # the dancer at the back: blue (BGR)
-    first[100:300, 420:480] = (30, 40, 210)  # the one that will be occluded: red
-    detection = (195.0, 100.0, 60.0, 200.0)  # the red dancer, come out in front of the blue one
-    later = background.copy()
-    later[100:300, 195:255] = (30, 40, 210)
-
-    def handed_over(config=None, start=first, detection=detection, later=later) -> bool:
-        tracker = MultiDancerTracker(start, [back_box, hidden_box], config)
-        back, hidden = tracker.dancers
-        hidden.status, hidden.box = OCCLUDED, (260.0, 100.0, 60.0, 200.0)  # predicted on its way there
-        back.size_ratio = np.array([0.7, 0.7])
-        assert tracker._claims([detection]) == {back.dancer_id: 0}  # the blue dancer's box holds it
-        tracker._reidentify(later, [hidden], [hidden_box], [detection])  # its own tracker: on the background
-        assert (hidden.status == TRACKED) == (back.status == OCCLUDED)
-        if hidden.status == TRACKED:
-            assert hidden.box == detection and back.size_ratio is None
-        return hidden.status == TRACKED
-
-    assert handed_over()
-    assert not handed_over(MultiTrackerConfig(reid_from_holder=False))
-    alike = first.copy()
-    alike[120:280, 200:250] = (40, 50, 200)  # the dancer at the back dressed like the other: it may be either
-    assert not handed_over(start=alike)
-    # a person level with the dancer at the back is that dancer, with someone passing in front of part of it
-    assert not handed_over(detection=(195.0, 80.0, 60.0, 200.0))
-    # a person in front that covers half the width of its body core: the dancer at the back shows beside it
-    beside = background.copy()
-    beside[100:300, 220:280] = (30, 40, 210)
-    assert not handed_over(detection=(220.0, 100.0, 60.0, 200.0), later=beside)
-    assert handed_over(MultiTrackerConfig(reid_holder_covered=0.5), detection=(220.0, 100.0, 60.0, 200.0),
-                       later=beside)
-    assert MultiTrackerConfig().reid_from_holder
 
 
 def test_hiding_dancer_names_the_dancer_in_front():
@@ -1172,241 +877,6 @@ def test_a_lost_dancer_does_not_jump_to_a_person_who_looks_like_another_dancer(t
     assert MultiTrackerConfig().jump_rivals
 
 
-def _waiting_behind(frame, config=None):
-    """A tracker with dancer 0 started hidden behind dancer 1 (box bottom lower), on ``frame``."""
-    behind, front = (300.0, 100.0, 60.0, 200.0), (280.0, 180.0, 120.0, 260.0)
-    tracker = MultiDancerTracker(frame, [behind, front], config)
-    assert tracker.dancers[0].hidden_behind == 1
-    return tracker
-
-
-def _two_colour_frame(rng, boxes_colours, split: float = 0.5):
-    """A noisy grey frame (480 x 640) with each (x, y, w, h) box painted in two BGR colours (top, bottom), the top
-    one down to ``split`` x the box height."""
-    frame = rng.integers(90, 160, (480, 640, 3), dtype=np.uint8)
-    for (x, y, w, h), (top, bottom) in boxes_colours:
-        x, y, w, h = int(x), int(y), int(w), int(h)
-        frame[y:y + int(split * h), x:x + w] = top
-        frame[y + int(split * h):y + h, x:x + w] = bottom
-    return frame
-
-
-def test_a_waiting_dancer_emerges_on_a_person_dressed_partly_like_the_dancer_in_front():
-    """A dancer waiting behind another (``hidden_behind``) takes a detection clear of every dancer that looks
-    like the dancer in front's memory less than ``reid_similarity``; with ``emerge_relative`` also one that looks
-    like it more, if by ``reid_margin`` less than the dancer in front's own box does: a person in a shirt of the
-    same colour but other trousers is someone else (hdvr synth seed 504 flamenco: IDF1 0.728 -> 0.975)."""
-    rng = np.random.default_rng(5)
-    front_box, person = (280.0, 180.0, 120.0, 260.0), (150.0, 110.0, 60.0, 190.0)
-    green, magenta, yellow = (60, 170, 80), (170, 40, 170), (40, 200, 220)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
-    later = _two_colour_frame(rng, [(person, (green, yellow))], split=0.7)  # a long green shirt
-    later[180:440, 280:400] = frame[180:440, 280:400]
-    emerged = {}
-    for relative in (True, False):
-        tracker = _waiting_behind(frame, MultiTrackerConfig(emerge_relative=relative))
-        waiting, front = tracker.dancers
-        c = tracker.config
-        looks_like_front = histogram_similarity(colour_histogram(later, person), front.stored_histogram)
-        front_itself = histogram_similarity(colour_histogram(later, front.box), front.stored_histogram)
-        assert c.reid_similarity <= looks_like_front < front_itself - c.reid_margin
-        tracker._emerge(later, [front_box, person])
-        emerged[relative] = waiting.hidden_behind is None
-        if emerged[relative]:
-            assert box_iou(waiting.box, person) > 0.8
-    assert emerged == {True: True, False: False}
-    # the dancer in front itself, seen again beside its drifted box, matches its memory as well: it does not
-    tracker = _waiting_behind(frame)
-    front = tracker.dancers[1]
-    front.box = (450.0, 180.0, 120.0, 260.0)  # its tracker slid onto the background
-    moved = _two_colour_frame(rng, [((150.0, 180.0, 120.0, 260.0), (green, magenta))])
-    tracker._emerge(moved, [front.box, (150.0, 180.0, 120.0, 260.0)])
-    assert tracker.dancers[0].hidden_behind == 1
-
-
-def test_a_waiting_dancer_comes_out_past_another_dancer_still_waiting_where_it_is():
-    """Two dancers start hidden behind the same one: dancer 0 (tall) and dancer 2 (short, further back). The dancer in
-    front walks away and dancer 0 is detected where it waits; dancer 2's box, a guess at its start, lies on that
-    detection. With ``emerge_past_waiting`` (the default, session 50) a dancer still waiting does not stand in the
-    way of a detection that fits it less well than the emerging dancer's box: dancer 0 comes out on it and dancer 2
-    keeps waiting (hdvr synth seed 2624 hip-hop: IDF1 0.767 -> 1.000). Without, dancer 0 waits on. The dancer hiding
-    the emerging one stands in the way even while it waits itself."""
-    rng = np.random.default_rng(3)
-    front_box, tall, short = (280.0, 180.0, 120.0, 260.0), (300.0, 100.0, 60.0, 200.0), (305.0, 150.0, 50.0, 150.0)
-    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
-    walked = (450.0, 180.0, 120.0, 260.0)
-    later = _two_colour_frame(rng, [(walked, (green, magenta)), (tall, (blue, yellow))])
-    for past_waiting in (True, False):
-        tracker = MultiDancerTracker(frame, [tall, front_box, short],
-                                     MultiTrackerConfig(emerge_past_waiting=past_waiting))
-        waiting, front, further = tracker.dancers
-        assert waiting.hidden_behind == 1 and further.hidden_behind == 1
-        assert tracker._bodies_overlap(tall, further.box) > tracker.config.overlap_threshold
-        front.box = walked
-        tracker._emerge(later, [walked, tall])
-        assert (waiting.hidden_behind is None) == past_waiting
-        assert further.hidden_behind == 1
-        if past_waiting:
-            assert box_iou(waiting.box, tall) > 0.9
-    # the dancer hiding the emerging one stands in the way even while it waits itself (a stack of three)
-    tracker = MultiDancerTracker(frame, [tall, front_box, short])
-    waiting, front, further = tracker.dancers
-    waiting.hidden_behind = further.dancer_id
-    front.box = walked
-    tracker._emerge(later, [walked, tall])
-    assert waiting.hidden_behind == further.dancer_id
-
-
-def test_a_waiting_dancer_comes_out_past_an_occluded_dancer_plainly_not_the_person_there():
-    """A third dancer, occluded, is predicted onto the spot where a person steps out beside the dancer in front. With
-    ``emerge_past_unlike_occluded`` (the default, session 72) its predicted box does not stand in the way when the
-    person's colours match its memory less than ``emerge_beside_similarity``: the waiting dancer comes out on the first
-    detector frame (hdvr synth seed 2844 hip-hop: 15 frames earlier, 0.887 -> 0.963). Without, it waits on; and a
-    person dressed like the occluded dancer may be that dancer, so it waits on then too."""
-    rng = np.random.default_rng(11)
-    front_box, behind, third = (280.0, 180.0, 120.0, 260.0), (300.0, 100.0, 60.0, 200.0), (40.0, 110.0, 60.0, 190.0)
-    person = (160.0, 110.0, 60.0, 190.0)  # clear of the front dancer, within a box height of the waiting one
-    green, magenta, blue, yellow, red, white = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220), \
-        (40, 60, 200), (235, 235, 235)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta)), (third, (blue, yellow))])
-
-    def comes_out(person_colours, past_unlike: bool = True) -> bool:
-        later = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, person_colours)])
-        tracker = MultiDancerTracker(frame, [behind, front_box, third],
-                                     MultiTrackerConfig(emerge_past_unlike_occluded=past_unlike))
-        waiting, front, occluded = tracker.dancers
-        assert waiting.hidden_behind == 1 and occluded.hidden_behind is None
-        occluded.status, occluded.box = OCCLUDED, person  # predicted onto the person
-        assert tracker._bodies_overlap(person, occluded.box) > tracker.config.emerge_beside_overlap
-        tracker._emerge(later, [front_box, person])
-        if waiting.hidden_behind is None:
-            assert box_iou(waiting.box, person) > 0.8
-        return waiting.hidden_behind is None
-
-    assert comes_out((red, white))
-    assert not comes_out((red, white), past_unlike=False)
-    assert not comes_out((blue, yellow))  # dressed like the occluded dancer: it may be her
-
-
-def test_of_two_dancers_waiting_near_a_person_coming_out_the_one_of_its_height_takes_it():
-    """Two dancers start hidden behind the same one: dancer 0, 200 px tall, and dancer 2, 150 px. A person 150 px tall
-    comes out beside the dancer in front, within reach of both. Dancer 0 chooses first (the dancers' order) and took
-    it; with ``emerge_height_yield`` m it leaves it to the waiting dancer whose box height fits the person's better by
-    more than m in |log(height ratio)|, and dancer 2 comes out on it (hdvr synth seed 2906 flamenco, a stack of three:
-    the middle dancer, 185 px, took the one at the back, 123 px, as she came out and kept her; 0.606 with a switch ->
-    0.972)."""
-    rng = np.random.default_rng(4)
-    front_box, tall, short = (280.0, 180.0, 120.0, 260.0), (300.0, 100.0, 60.0, 200.0), (305.0, 150.0, 50.0, 150.0)
-    person = (180.0, 150.0, 50.0, 150.0)
-    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
-    later = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (blue, yellow))])
-    for margin in (0.0, 0.1):
-        tracker = MultiDancerTracker(frame, [tall, front_box, short], MultiTrackerConfig(emerge_height_yield=margin))
-        waiting_tall, front, waiting_short = tracker.dancers
-        assert waiting_tall.hidden_behind == 1 and waiting_short.hidden_behind == 1
-        tracker._emerge(later, [front_box, person])
-        came_out = waiting_short if margin else waiting_tall
-        stayed = waiting_tall if margin else waiting_short
-        assert came_out.hidden_behind is None and abs(came_out.box[0] - person[0]) < 1.0  # (the height it keeps)
-        assert stayed.hidden_behind == 1
-    tracker = MultiDancerTracker(frame, [tall, front_box, short], MultiTrackerConfig(emerge_height_yield=0.1))
-    fits_other = lambda d, box, image: tracker._fits_other_waiting(  # noqa: E731
-        image, tracker.dancers[d], 1, box, tracker.waiting(), {}, {})
-    assert fits_other(0, person, later) and not fits_other(2, person, later)
-    far = (20.0, 150.0, 50.0, 150.0)  # beyond the short dancer's reach (emerge_distance x 150 px): not hers to take
-    assert not fits_other(0, far, _two_colour_frame(rng, [(front_box, (green, magenta)), (far, (blue, yellow))]))
-    # a person the short dancer may not come out on (in the front dancer's colours) is not left to her
-    alike = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (green, magenta))])
-    assert not fits_other(0, person, alike)
-    assert MultiTrackerConfig().emerge_height_yield == 0.1
-
-
-def test_a_dancer_in_front_walking_out_of_its_stack_takes_its_own_detection_and_the_waiting_one_comes_out():
-    """A dancer 260 px tall starts in front of one 200 px tall waiting behind it. He walks away while his box stays on
-    her (his tracker learned their stack), so the detection given to him lies on her box and she, waiting, cannot
-    take it; the detection of him beside them looks like him, so she does not take that either. With
-    ``emerge_front_leaves`` m he moves to the detection that looks like him whose height fits his box better and hers
-    worse (by more than m in |log(height ratio)|, summed), and she comes out on the one his box held (hdvr synth seed
-    2870 ballet: his box stayed on her 100 frames, another dancer later took him; 0.658 with a switch -> 0.946). Not
-    onto a person who does not look like him."""
-    rng = np.random.default_rng(6)
-    front_box, behind = (290.0, 180.0, 80.0, 260.0), (305.0, 220.0, 50.0, 200.0)
-    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
-    stayed_on_her = (300.0, 205.0, 60.0, 230.0)  # his box, adapted part of the way to her
-    # him, walked away; and a person in his colours of her height, whom the heights do not give to him
-    for walked, leaves in (((440.0, 180.0, 80.0, 260.0), True), ((440.0, 240.0, 60.0, 200.0), False)):
-        later = _two_colour_frame(rng, [(walked, (green, magenta)), (behind, (blue, yellow))])
-        for margin in (0.0, 0.05):
-            tracker = MultiDancerTracker(frame, [behind, front_box], MultiTrackerConfig(emerge_front_leaves=margin))
-            waiting, front = tracker.dancers
-            assert waiting.hidden_behind == 1
-            front.box = stayed_on_her
-            tracker._emerge(later, [behind, walked])
-            moved = bool(margin) and leaves
-            assert (waiting.hidden_behind is None) == moved
-            assert box_iou(front.box, walked if moved else stayed_on_her) > 0.9
-            if moved:
-                assert box_iou(waiting.box, behind) > 0.9
-                assert histogram_similarity(waiting.stored_histogram, colour_histogram(later, behind)) > 0.9
-    assert MultiTrackerConfig().emerge_front_leaves == 0.05
-
-
-def test_a_waiting_dancer_comes_out_half_beside_the_dancer_in_front_once_seen_there_three_times():
-    """With ``emerge_beside_persist`` 3, a dancer waiting behind another takes a detection whose body core half
-    overlaps the front dancer's (0.3 of it: no clear detection) when its colours are unlike the front dancer's memory
-    and such a detection lay there on the two detector frames before (hdvr synth seed 1302 flamenco: the dancer
-    behind stands half beside the taller one in front from frame 84 on, and never came out). Not on the first two,
-    not after a detector frame that did not show it, and never with the rule off (0). Detector frames count, not
-    frames: every 8th frame it comes out on the third as well."""
-    rng = np.random.default_rng(9)
-    front_box, person = (280.0, 180.0, 120.0, 260.0), (270.0, 110.0, 60.0, 190.0)
-    green, magenta, red, yellow = (60, 170, 80), (170, 40, 170), (40, 60, 200), (40, 200, 220)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
-    later = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (red, yellow))])
-    # (persist, detector frames, the frames among them that show the person, frame it comes out on)
-    for persist, frames, shown, emerged_at in ((3, (3, 6, 9), (3, 6, 9), 9), (3, (8, 16, 24), (8, 16, 24), 24),
-                                               (3, (3, 6, 9, 12, 15), (3, 6, 12, 15), None),
-                                               (0, (3, 6, 9), (3, 6, 9), None)):
-        tracker = _waiting_behind(frame, MultiTrackerConfig(emerge_beside_persist=persist))
-        waiting, front = tracker.dancers
-        assert 0.05 < tracker._bodies_overlap(person, front.box) < 0.5
-        for t in frames:
-            tracker.frame_index = t
-            tracker._count_detector_frame()  # as step does on a frame with detections
-            tracker._emerge(later, [front_box, person] if t in shown else [front_box])
-            assert (waiting.hidden_behind is None) == (emerged_at is not None and t >= emerged_at), (persist, t)
-        if emerged_at is not None:
-            assert box_iou(waiting.box, person) > 0.8
-
-
-def test_a_waiting_dancer_comes_out_on_its_own_box_once_seen_there_three_times_unlike_the_front_dancer():
-    """With ``emerge_own_margin`` m (0.35 by default since session 51), a dancer waiting behind another also takes a
-    detection on its own box (IoU >= 0.5) whose body core overlaps the front dancer's too much to count as beside him,
-    when its colours match the front dancer's memory by m less than his own box does now, on ``emerge_beside_persist``
-    (3) detector frames in a row (hdvr synth seed 2665 hip-hop: the dancer behind, seen on her own box for 90 frames,
-    never came out; 2 switches -> none). Not on the first two frames, not for a person dressed like the dancer in
-    front (a part of him that the detector drew as a person), and never with the rule off (0)."""
-    rng = np.random.default_rng(11)
-    front_box, own = (280.0, 180.0, 120.0, 260.0), (300.0, 100.0, 60.0, 200.0)
-    green, magenta, red, yellow = (60, 170, 80), (170, 40, 170), (40, 60, 200), (40, 200, 220)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
-    for margin, colours, comes_out in ((0.35, (red, yellow), True), (0.35, (green, magenta), False),
-                                       (0.0, (red, yellow), False)):
-        later = _two_colour_frame(rng, [(front_box, (green, magenta)), (own, colours)])
-        tracker = _waiting_behind(frame, MultiTrackerConfig(emerge_own_margin=margin))
-        waiting, front = tracker.dancers
-        assert tracker._bodies_overlap(own, front.box) >= 0.5 and box_iou(own, waiting.box) >= 0.5
-        for t in (3, 6, 9):
-            tracker.frame_index = t
-            tracker._count_detector_frame()
-            tracker._emerge(later, [front_box, own])
-            assert (waiting.hidden_behind is None) == (comes_out and t == 9), (margin, colours, t)
-    assert MultiTrackerConfig().emerge_own_margin == 0.35
-
-
 def test_detector_frames_are_counted_by_step_whether_or_not_the_detector_found_anyone():
     """``step`` with ``detections`` (even an empty list) marks a detector frame; without, it does not: the rules
     that need a detection on detector frames in a row (``emerge_beside_persist``) see the frame before as the
@@ -1416,39 +886,6 @@ def test_detector_frames_are_counted_by_step_whether_or_not_the_detector_found_a
     for detections in (None, None, [], None, [(100.0, 50.0, 40.0, 120.0)]):
         tracker.step(frame, detections=detections)
     assert (tracker.previous_detector_frame, tracker.detector_frame) == (3, 5)
-
-
-def test_a_waiting_dancer_emerging_on_its_upper_body_keeps_its_height():
-    """A dancer that comes out from behind on a detection shorter than its start box (the detector sees only the
-    part already out) keeps the box's height, with ``emerge_keeps_height`` (hdvr synth seed 705 tango, a couple in
-    hold: IDF1 0.533 -> 0.812); without, it shrinks to the detection."""
-    rng = np.random.default_rng(6)
-    front_box, upper = (280.0, 180.0, 120.0, 260.0), (200.0, 100.0, 60.0, 140.0)
-    frame = _two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170)))])
-    later = _two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170))),
-                                    (upper, ((200, 60, 40), (40, 200, 220)))])
-    for keep, height in ((True, 200.0), (False, 140.0)):
-        tracker = _waiting_behind(frame, MultiTrackerConfig(emerge_keeps_height=keep))
-        waiting = tracker.dancers[0]
-        tracker._emerge(later, [front_box, upper])
-        assert waiting.hidden_behind is None and waiting.status == TRACKED
-        assert waiting.box[:3] == pytest.approx(upper[:3]) and waiting.box[3] == pytest.approx(height), keep
-
-
-def test_a_waiting_dancer_does_not_emerge_on_a_wide_part_drawn_as_a_person():
-    """A detection much wider for its height than the waiting dancer's box (``emerge_max_aspect``: 2 x) is a part of
-    a dancer that YOLO drew as a person, e.g. the spread arm of the dancer in front (hdvr synth seed 1308 hip-hop: a
-    box 175 x 93 px taken for a dancer 51 px wide), not the waiting dancer coming out."""
-    rng = np.random.default_rng(8)
-    front_box, wide = (280.0, 180.0, 120.0, 260.0), (150.0, 120.0, 130.0, 140.0)  # aspects 0.46 and 0.93
-    frame = _two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170)))])
-    later = _two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170))),
-                                    (wide, ((200, 60, 40), (40, 200, 220)))])
-    for aspect, emerged in ((2.0, False), (float("inf"), True)):
-        tracker = _waiting_behind(frame, MultiTrackerConfig(emerge_max_aspect=aspect))
-        waiting = tracker.dancers[0]  # box 60 x 200 px: aspect 0.3
-        tracker._emerge(later, [front_box, wide])
-        assert (waiting.hidden_behind is None) == emerged, aspect
 
 
 def test_a_dancer_relocated_on_a_patch_keeps_the_patch_s_bottom():
@@ -1478,10 +915,10 @@ def test_relocation_takes_no_detection_of_another_height():
     rng = np.random.default_rng(12)
     start, other = (100.0, 100.0, 60.0, 200.0), (500.0, 100.0, 60.0, 200.0)
     red, blue, green = (30, 40, 210), (200, 60, 40), (60, 170, 80)
-    frame = _two_colour_frame(rng, [(start, (red, blue)), (other, (green, green))])
+    frame = two_colour_frame(rng, [(start, (red, blue)), (other, (green, green))])
     for height, rule, taken in ((140.0, True, False), (140.0, False, True), (180.0, True, True)):
         ahead = (215.0, 300.0 - height, 60.0, height)  # 120 px along the motion, standing on the same floor line
-        later = _two_colour_frame(rng, [(ahead, (red, blue)), (other, (green, green))])
+        later = two_colour_frame(rng, [(ahead, (red, blue)), (other, (green, green))])
         tracker = MultiDancerTracker(frame, [start, other], MultiTrackerConfig(relocate_height_change=rule))
         d = tracker.dancers[0]
         d.status, d.stored_velocity = OCCLUDED, np.array([4.0, 0.0])  # px/frame to the right
@@ -1497,9 +934,9 @@ def test_relocation_without_the_cone_patches_takes_only_what_was_seen():
     rng = np.random.default_rng(12)
     start, other = (100.0, 100.0, 60.0, 200.0), (500.0, 100.0, 60.0, 200.0)
     red, blue, green = (30, 40, 210), (200, 60, 40), (60, 170, 80)
-    frame = _two_colour_frame(rng, [(start, (red, blue)), (other, (green, green))])
+    frame = two_colour_frame(rng, [(start, (red, blue)), (other, (green, green))])
     ahead = (220.0, 100.0, 60.0, 200.0)  # 120 px along the motion
-    later = _two_colour_frame(rng, [(ahead, (red, blue)), (other, (green, green))])
+    later = two_colour_frame(rng, [(ahead, (red, blue)), (other, (green, green))])
     for patches, detections, relocated in ((True, [], True), (False, [], False), (False, [ahead], True)):
         tracker = MultiDancerTracker(frame, [start, other], MultiTrackerConfig(relocate_patches=patches))
         d = tracker.dancers[0]
@@ -1653,42 +1090,6 @@ def test_an_occluded_dancer_keeps_the_size_its_box_had_when_hidden():
         assert (d.box[0] + d.box[2] / 2, d.box[1] + d.box[3] / 2) == pytest.approx(centre)
 
 
-
-def test_an_occluded_dancer_is_not_reidentified_on_a_detection_of_part_of_its_height():
-    """Re-identification takes a detection only within ``reid_height_change`` of the occluded dancer's box height,
-    measured after a cut by a dancer in front is made good (:meth:`_feet_hidden`): a box around
-    the spread arms and head of a dancer a third as high is not that dancer (hdvr synth seed 901 swing: the dancer
-    in front was taken again on such a box and kept it to the end, IDF1 0.750 -> 1.000); an upper body whose legs
-    are hidden behind a dancer in front is. Nor is a box three quarters of its height (default 1.25; hdvr synth seed
-    707 hip-hop: a dancer occluded for one frame was taken again on the upper body of the dancer behind her and
-    kept its height, IDF1 0.539 -> 0.731 without)."""
-    rng = np.random.default_rng(10)
-    hidden_box, other_box = (300.0, 100.0, 60.0, 200.0), (40.0, 100.0, 60.0, 200.0)
-    red, blue, green = (30, 40, 210), (200, 60, 40), (60, 170, 80)
-    frame = _two_colour_frame(rng, [(hidden_box, (red, blue)), (other_box, (green, green))], split=0.8)
-    upper = (290.0, 100.0, 80.0, 70.0)  # head and spread arms: a third of the dancer's height
-
-    def reidentified(config=None, front=None, box=upper) -> bool:
-        later = _two_colour_frame(rng, [(box, (red, red)), (other_box, (green, green))])
-        boxes = [hidden_box, other_box] + ([front] if front else [])
-        tracker = MultiDancerTracker(frame, boxes, config)
-        d = tracker.dancers[0]
-        d.status = OCCLUDED
-        assert histogram_similarity(colour_histogram(later, box), d.stored_histogram) >= \
-            tracker.config.reid_similarity
-        tracker._reidentify(later, [d], [(500.0, 250.0, 60.0, 200.0)], [box] + ([front] if front else []))
-        return d.status == TRACKED
-
-    assert not reidentified()
-    assert reidentified(MultiTrackerConfig(reid_height_change=4.0))
-    # three quarters of the height: refused by default, taken with session 21's 2.0
-    three_quarters = (300.0, 100.0, 60.0, 150.0)
-    assert not reidentified(box=three_quarters)
-    assert reidentified(MultiTrackerConfig(reid_height_change=2.0), box=three_quarters)
-    # the legs hidden behind a dancer standing in front, who holds its own detection: the box is the upper body
-    assert reidentified(front=(240.0, 150.0, 100.0, 220.0))
-
-
 def test_a_weak_detection_updates_a_followed_dancer_but_finds_no_one_again(tmp_path):
     """``weak_detections``: a detection the detector is less sure of adapts the box of a clear dancer that no sure
     detection is on, as a sure one does (not with the option off), but never re-identifies an occluded dancer, as
@@ -1724,20 +1125,6 @@ def test_a_weak_detection_updates_a_followed_dancer_but_finds_no_one_again(tmp_p
     assert not reidentified([back], [front])
 
 
-def test_a_dancer_in_a_group_without_a_sure_detection_takes_its_weak_one(tmp_path):
-    """In a group, weak detections are assigned after the sure ones, to the dancers that got none: a dancer takes
-    its weak detection, and a weak one never displaces a sure one."""
-    render_clip(tmp_path / "clip.mp4", frames=2, specs=default_crossing_specs(num_figures=2, seed=0))
-    frames = list(VideoReader(tmp_path / "clip.mp4"))
-    a, b = (300.0, 120.0, 80.0, 280.0), (330.0, 200.0, 60.0, 200.0)
-    wide = (285.0, 118.0, 140.0, 284.0)  # dancer 0 with spread arms
-    sure_b = (332.0, 198.0, 58.0, 204.0)
-    tracker = MultiDancerTracker(frames[0], [a, b])
-    assert tracker._unambiguous_detections([sure_b], [wide, (331.0, 190.0, 62.0, 215.0)]) == {0: wide, 1: sure_b}
-    tracker._adapt_in_group(frames[1], tracker.dancers, [sure_b], [wide])
-    assert tracker.dancers[0].box[2] > a[2] + 20
-
-
 def test_an_occluded_dancer_is_not_taken_again_on_background_nor_predicted_onto_it():
     """A dancer hidden behind another stops there while its box, predicted with the velocity it had, moves on
     clear of the dancer in front onto background. A patch of floor or wall whose colours happen to match the
@@ -1746,7 +1133,7 @@ def test_an_occluded_dancer_is_not_taken_again_on_background_nor_predicted_onto_
     was taken again on the wall beside them, similarity 0.68, and stayed there). A painted figure is foreground."""
     rng = np.random.default_rng(9)
     front_box, behind = (280.0, 180.0, 120.0, 260.0), (300.0, 200.0, 60.0, 200.0)
-    frame = _two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170)))])
+    frame = two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170)))])
     results = {}
     for on in (True, False):
         config = MultiTrackerConfig(patch_min_foreground=0.15 if on else 0.0, hold_empty_prediction=on,
@@ -1785,9 +1172,9 @@ def test_an_occluded_dancer_unseen_coming_out_stays_where_it_was_hidden_best():
     rng = np.random.default_rng(12)
     front_box, start, figure = (300.0, 180.0, 70.0, 260.0), (200.0, 200.0, 60.0, 200.0), (480.0, 180.0, 70.0, 260.0)
     colours = ((60, 170, 80), (170, 40, 170)), ((200, 90, 30), (40, 200, 220))
-    frame = _two_colour_frame(rng, [(front_box, colours[0]), (figure, colours[1])])
-    beside = _two_colour_frame(rng, [(front_box, colours[0]), ((372.0, 180.0, 70.0, 260.0), colours[1])])
-    red = _two_colour_frame(rng, [(start, ((20, 20, 230), (20, 20, 230)))])
+    frame = two_colour_frame(rng, [(front_box, colours[0]), (figure, colours[1])])
+    beside = two_colour_frame(rng, [(front_box, colours[0]), ((372.0, 180.0, 70.0, 260.0), colours[1])])
+    red = two_colour_frame(rng, [(start, ((20, 20, 230), (20, 20, 230)))])
     results = {}
     cases = ((0.6, True, False, frame), (0.0, True, True, frame), (0.6, False, False, frame),
              (0.6, False, True, frame), (0.6, False, True, beside))
@@ -1841,49 +1228,15 @@ def test_a_waiting_dancer_comes_out_on_a_weak_find_on_a_frame_without_a_sure_one
     rng = np.random.default_rng(11)
     front_box, person = (280.0, 180.0, 120.0, 260.0), (120.0, 120.0, 60.0, 190.0)
     green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
-    later = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (blue, yellow))])
+    frame = two_colour_frame(rng, [(front_box, (green, magenta))])
+    later = two_colour_frame(rng, [(front_box, (green, magenta)), (person, (blue, yellow))])
     for weak, out in (([person], True), ([], False)):
-        tracker = _waiting_behind(frame)
+        tracker = waiting_behind(frame)
         tracker.step(later, detections=[], weak_detections=weak)
         waiting = tracker.dancers[0]
         assert (waiting.hidden_behind is None) is out
         if out:
             assert box_iou(waiting.box, person) > 0.8
-
-
-def test_a_dancer_in_front_of_a_hidden_one_scales_with_its_detection():
-    """A couple walking towards the camera, one hidden behind the other since the start: the one in front overlaps
-    the hidden one, so it is never clear to adapt to its detection, and a group needs two dancers followed. With
-    ``group_scale_front`` a lone dancer whose overlapping dancers all wait hidden behind it since their start scales
-    with its own detection as a group does (relative change, its box's size convention kept); without, it keeps its
-    size, and so it does in front of a dancer occluded later (that one may come out any time) or of one hidden in
-    front of it (lower in the image)."""
-    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
-    front, behind = (300.0, 120.0, 70.0, 250.0), (305.0, 100.0, 60.0, 210.0)
-
-    def detection(scale):  # the front dancer's detector box, 10 % smaller than its box, scaled about it
-        x, y, w, h = front
-        cx, cy, dw, dh = x + w / 2, y + h / 2, w / 1.1 * scale, h / 1.1 * scale
-        return [(cx - dw / 2, cy - dh / 2, dw, dh)]
-
-    def scaled(rule=True, waiting=True, hidden_box=behind):
-        tracker = MultiDancerTracker(frame, [front, hidden_box], MultiTrackerConfig(group_scale_front=rule))
-        hidden = tracker.dancers[1]
-        tracker._occlude(hidden, [tracker.dancers[0]])
-        hidden.hidden_behind = tracker.dancers[0].dancer_id if waiting else None
-        assert hidden.status == OCCLUDED
-        group = [tracker.dancers[0]]
-        tracker._scale_groups(group, detection(1.0))  # records the reference
-        for _ in range(20):
-            tracker._scale_groups(group, detection(1.2))
-        return tracker.dancers[0].box
-
-    box = scaled()
-    assert box[3] == pytest.approx(1.2 * front[3], rel=0.02) and box[2] == pytest.approx(1.2 * front[2], rel=0.02)
-    assert scaled(rule=False) == front
-    assert scaled(waiting=False) == front
-    assert scaled(hidden_box=(305.0, 160.0, 60.0, 250.0)) == front
 
 
 def test_a_dancer_in_front_of_a_waiting_one_narrows_to_its_narrower_detection():
@@ -1907,39 +1260,6 @@ def test_a_dancer_in_front_of_a_waiting_one_narrows_to_its_narrower_detection():
     assert w == pytest.approx(70.0, abs=5.0) and x + w / 2 == pytest.approx(335.0, abs=5.0)
     assert front_box(narrow, rule=False)[2] == pytest.approx(145.0)
     assert front_box(wide)[2] == pytest.approx(145.0)
-
-
-def test_a_dancer_in_front_gets_up_from_the_floor_shape_its_box_kept_in_a_group():
-    """A box that took a floor shape (wider than tall: a dancer down, or two dancers drawn as one person) keeps its
-    aspect while it overlaps others (group scaling keeps it). When the dancer's unambiguous detection has shown an
-    upright person on ``group_reshape_after`` detector frames in a row, and the dancer stands in front of every
-    dancer it overlaps, the box takes the detection's aspect at its own height (hdvr synth seed 1512 hip-hop: a box
-    206 x 171 px kept for 100 frames around a dancer 97 x 227 px)."""
-    frame = np.random.default_rng(3).integers(0, 255, (480, 640, 3), dtype=np.uint8)
-    floor, behind = (250.0, 200.0, 200.0, 170.0), (300.0, 120.0, 60.0, 150.0)
-    upright, behind_det = (300.0, 180.0, 100.0, 210.0), (300.0, 118.0, 62.0, 152.0)
-    tracker = MultiDancerTracker(frame, [floor, behind], MultiTrackerConfig(group_reshape_after=2))
-    front = tracker.dancers[0]
-    tracker._reshape_in_group(tracker.dancers, [upright, behind_det])
-    assert front.box == floor  # one detector frame is not enough
-    tracker._reshape_in_group(tracker.dancers, [upright, behind_det])
-    x, y, w, h = front.box
-    assert (y, h) == (200.0, 170.0) and w == pytest.approx(170.0 * 100.0 / 210.0)
-    assert x + w / 2 == pytest.approx(350.0)  # centred on the detection
-    assert tracker.dancers[1].box == behind  # upright already, and behind the other
-    # a box of an upright shape is not reshaped: spread arms change a dancer's width from frame to frame
-    upright_box = (270.0, 200.0, 120.0, 170.0)
-    tracker = MultiDancerTracker(frame, [upright_box, behind], MultiTrackerConfig(group_reshape_after=2))
-    for _ in range(3):
-        tracker._reshape_in_group(tracker.dancers, [(300.0, 180.0, 60.0, 210.0), behind_det])
-    assert tracker.dancers[0].box == upright_box
-    # nor that of a dancer with another standing in front of it (the detection may show only its part above)
-    closer, further = (290.0, 160.0, 40.0, 230.0), (290.0, 140.0, 40.0, 200.0)  # box bottoms 20 px lower, 30 higher
-    for other, reshaped in ((closer, False), (further, True)):
-        tracker = MultiDancerTracker(frame, [floor, other], MultiTrackerConfig(group_reshape_after=2))
-        for _ in range(2):  # the detection does not cover the other dancer's centre line: it is the floor dancer's
-            tracker._reshape_in_group(tracker.dancers, [(335.0, 180.0, 90.0, 210.0), other])
-        assert (tracker.dancers[0].box != floor) == reshaped, other
 
 
 def test_a_dancer_beside_a_partner_follows_her_detection_s_height():
@@ -1977,9 +1297,9 @@ def test_a_corrected_dancer_restarts_seen_on_its_box_with_its_own_colours():
     and growth forgotten; the other dancers are left as they were."""
     rng = np.random.default_rng(5)
     behind, front, elsewhere = (300.0, 100.0, 60.0, 200.0), (280.0, 180.0, 120.0, 260.0), (60.0, 120.0, 70.0, 220.0)
-    frame = _two_colour_frame(rng, [(front, ((40, 40, 210), (40, 200, 230))),
-                                    (elsewhere, ((200, 60, 40), (230, 200, 40)))])
-    tracker = _waiting_behind(frame)
+    frame = two_colour_frame(rng, [(front, ((40, 40, 210), (40, 200, 230))),
+                                   (elsewhere, ((200, 60, 40), (230, 200, 40)))])
+    tracker = waiting_behind(frame)
     memory = tracker.dancers[0].stored_histogram  # its start box shows the dancer in front
     assert histogram_similarity(memory, colour_histogram(frame, front)) > \
         histogram_similarity(memory, colour_histogram(frame, elsewhere)) + 0.3
@@ -2000,7 +1320,7 @@ def test_a_corrected_dancer_restarts_seen_on_its_box_with_its_own_colours():
     # corrected onto a box straight behind dancer 1, it waits hidden behind it again, as at a start
     tracker.correct(frame, 0, behind)
     assert tracker.hiding_dancer(0) == 1 and tracker.dancers[0].status == TRACKED
-    off = _waiting_behind(frame, MultiTrackerConfig(correction_waits_behind=False))
+    off = waiting_behind(frame, MultiTrackerConfig(correction_waits_behind=False))
     off.correct(frame, 0, behind)
     assert off.hiding_dancer(0) is None
     with pytest.raises(IndexError):
@@ -2242,31 +1562,6 @@ def test_a_stray_person_shorter_than_the_box_that_stayed_behind_still_takes_the_
     assert box_iou(final_box(None), boxes[7][0]) == 0.0
 
 
-def test_dancers_waiting_behind_a_dancer_taken_elsewhere_wait_behind_the_dancer_in_front_of_them():
-    """When a dancer's box that had stayed on a stack is taken elsewhere (``stray_adrift``), the dancers that waited
-    behind it since their start stood behind that stack, not behind the dancer that walked out of it: each one left
-    clear of its new box waits from then on behind the dancer followed straight in front of it
-    (``adrift_hands_over_waiting``), at its offset from that dancer now; one with nobody in front stays as it was."""
-    from hdvr.tracking.multi import _offset_behind
-
-    frame = np.full((480, 640, 3), 90, np.uint8)
-    walked = (250.0, 100.0, 60.0, 220.0)  # the front dancer's box, still on the stack
-    middle = (245.0, 110.0, 50.0, 170.0)  # a dancer followed there, in front of the one at the back
-    back = (252.0, 100.0, 34.0, 120.0)  # waiting behind the front dancer since its start
-    alone = (520.0, 100.0, 34.0, 120.0)  # waiting behind it too, with nobody else in front of it
-
-    tracker = MultiDancerTracker(frame, [walked, middle, back, alone])
-    front, mid, waiting, lone = tracker.dancers
-    mid.hidden_behind = None  # came out from behind the front dancer earlier: followed on its own
-    waiting.hidden_behind = lone.hidden_behind = front.dancer_id
-    front.box = (430.0, 110.0, 60.0, 180.0)  # taken elsewhere, clear of both
-    tracker._hand_over_waiting(front)
-    assert waiting.hidden_behind == mid.dancer_id
-    assert waiting.wait_offset == pytest.approx(_offset_behind(back, middle))
-    assert lone.hidden_behind == front.dancer_id  # nobody straight in front of it: left as it was
-    assert MultiTrackerConfig().adrift_hands_over_waiting
-
-
 def test_with_restart_hands_over_waiting_any_restart_elsewhere_hands_the_waits_over():
     """With ``restart_hands_over_waiting`` every restart of a dancer's tracker on a box elsewhere (a jump to a
     detection, a box stuck off its dancer, a recovery, a correction: :meth:`MultiDancerTracker._restart`) hands
@@ -2282,89 +1577,6 @@ def test_with_restart_hands_over_waiting_any_restart_elsewhere_hands_the_waits_o
         waits[on] = waiting.hidden_behind
     assert waits[True] == 1 and waits[False] == 0
     assert not MultiTrackerConfig().restart_hands_over_waiting
-
-
-def _red_blue_green_dancers(config=None):
-    """A frame in three colour bands (red, blue, green, 200 px wide each), a tracker with one dancer on each band
-    (their memories those colours), and the three boxes; the green dancer waits behind the red one."""
-    frame = np.zeros((480, 640, 3), np.uint8)
-    frame[:, :200] = (0, 0, 200)  # red figure region
-    frame[:, 200:400] = (200, 60, 0)  # blue
-    frame[:, 400:] = (40, 200, 40)  # green
-    boxes = (50.0, 100.0, 80.0, 250.0), (250.0, 100.0, 80.0, 250.0), (450.0, 100.0, 80.0, 250.0)
-    tracker = MultiDancerTracker(frame, list(boxes), config)
-    for d, box in zip(tracker.dancers, boxes):
-        d.stored_histogram = colour_histogram(frame, box)
-    tracker.dancers[2].hidden_behind = tracker.dancers[0].dancer_id
-    return frame, tracker, boxes
-
-
-def test_a_waiting_dancer_does_not_come_out_on_a_person_who_plainly_is_another_dancer():
-    """A dancer waiting behind another since its start has no colours of its own, so it used to take any person
-    coming out near it that did not look like the dancer in front. With ``emerge_yields_to_known`` (the default
-    since session 47) a person whose colours match another dancer's memory (at least ``reid_similarity``, by
-    ``reid_margin`` over every other known dancer) is left to that dancer (:meth:`_shows_known_dancer`)."""
-    frame, tracker, (red, blue, green) = _red_blue_green_dancers()
-    front, known, waiting = tracker.dancers
-    shows = lambda box: tracker._shows_known_dancer(colour_histogram(frame, box), front)  # noqa: E731
-    assert shows(blue)  # the blue dancer, plainly
-    assert not shows(red)  # the front dancer's colours: tested separately, by the front's own rule
-    assert not shows(green)  # only the waiting dancer's (borrowed) memory: nobody known
-    config = tracker.config
-    tracker.config = dataclasses.replace(config, emerge_yields_to_known=False)
-    assert not shows(blue)
-    tracker.config = config
-    front.stored_histogram = known.stored_histogram.copy()  # two known dancers dressed alike: no plain match
-    assert not shows(blue)
-
-
-def test_a_waiting_dancer_is_not_kept_from_a_person_too_short_to_be_the_known_dancer_like_her():
-    """``emerge_yields_to_known`` leaves a person who looks like a known dancer to that dancer; with
-    ``emerge_known_height`` only if that dancer could take it, its box's height within ``reid_height_change`` of the
-    person's (:meth:`_height_fits`). hdvr synth seed 2826 ballet: the waiting dancer walked out clear, detected for
-    40 frames, 117 px tall; an occluded dancer 171 px tall matched her colours 0.62-0.72, could not take her, and
-    the waiting dancer's box stayed at her start (IoU 0.12)."""
-    frame, tracker, (red, blue, green) = _red_blue_green_dancers(MultiTrackerConfig(emerge_known_height=True))
-    front = tracker.dancers[0]
-    short = (260.0, 200.0, 60.0, 150.0)  # in blue's colours, 0.6 x its height
-    shows = lambda box: tracker._shows_known_dancer(colour_histogram(frame, box), front, box)  # noqa: E731
-    assert shows(blue)  # the blue dancer's height: left to her
-    assert not shows(short)  # too short to be her
-    tracker.config = dataclasses.replace(tracker.config, emerge_known_height=False)
-    assert shows(short)  # before: left to her all the same
-    assert MultiTrackerConfig().emerge_known_height is True
-
-
-def test_an_occluded_dancer_is_not_taken_where_its_own_tracker_drifted_off_the_floor():
-    """An occluded dancer's own tracker keeps running without learning, and its box is a candidate of
-    re-identification. Behind a group it can drift up or down off the hidden dancer (hdvr synth seed 212 hip-hop:
-    47 px up, 0.34 of the box height, while the dancers in front crouched; the box then stayed there 100 frames).
-    With ``own_box_max_shift`` (0.15 by default since session 48) that box counts only if its bottom lies within
-    that fraction of the dancer's box height of the bottom of the dancer's held box: the same colours 70 px (0.35 x)
-    higher are not taken, 10 px higher they are."""
-    held = (100.0, 200.0, 60.0, 200.0)
-
-    def frame_with_figure(top: float) -> np.ndarray:
-        frame = np.zeros((480, 640, 3), np.uint8)
-        frame[:, :, :] = (90, 90, 90)
-        frame[int(top):int(top) + 200, 100:160] = (20, 20, 220)  # red body
-        frame[int(top) + 120:int(top) + 200, 100:160] = (200, 60, 0)  # blue trousers
-        return frame
-
-    def taken(shift_px: float, limit) -> bool:
-        tracker = MultiDancerTracker(frame_with_figure(held[1]), [held],
-                                     MultiTrackerConfig(own_box_max_shift=limit))
-        d = tracker.dancers[0]
-        assert d.stored_histogram is not None
-        d.status, d.occluded_since, d.occlusion_end = OCCLUDED, 0, 100
-        own = (held[0], held[1] - shift_px, held[2], held[3])
-        tracker._reidentify(frame_with_figure(own[1]), [d], [own], None)
-        return d.status == TRACKED and abs(d.box[1] - own[1]) < 1.0
-
-    assert taken(70.0, None)  # without the test the drifted box takes the dancer
-    assert not taken(70.0, 0.15)
-    assert taken(10.0, 0.15)
-    assert MultiTrackerConfig().own_box_max_shift == 0.15
 
 
 def test_the_dancers_memories_are_histograms_of_their_boxes_shrunk_as_configured():
@@ -2383,7 +1595,6 @@ def test_the_dancers_memories_are_histograms_of_their_boxes_shrunk_as_configured
     assert tracker.looks_like_a_followed_dancer(frame, (130.0, 40.0, 60.0, 160.0))
 
 
-
 def test_a_dancer_whose_tracker_drifted_onto_the_background_is_lost_there():
     """A clear dancer's tracker can slide onto the floor or wall beside it and follow that for the rest of the clip
     (hdvr synth seed 2719 ballet: 74 frames tracked on the wall while the dancer, half hidden, stood 80 px on).
@@ -2393,7 +1604,7 @@ def test_a_dancer_whose_tracker_drifted_onto_the_background_is_lost_there():
     "tracked" on the background."""
     rng = np.random.default_rng(3)
     figure = (100.0, 150.0, 60.0, 200.0)
-    frame = _two_colour_frame(rng, [(figure, ((20, 20, 220), (200, 60, 0)))])
+    frame = two_colour_frame(rng, [(figure, ((20, 20, 220), (200, 60, 0)))])
     on_wall = (400.0, 150.0, 60.0, 200.0)
     results = {}
     for limit in (0.1, 0.0):
@@ -2419,7 +1630,7 @@ def test_a_waiting_dancer_whose_tracker_drifted_onto_the_background_goes_back_be
     rng = np.random.default_rng(3)
     front = (300.0, 150.0, 70.0, 220.0)
     behind = (310.0, 170.0, 50.0, 180.0)  # straight behind: its bottom (350) higher than his (370)
-    frame = _two_colour_frame(rng, [(front, ((20, 20, 220), (200, 60, 0)))])
+    frame = two_colour_frame(rng, [(front, ((20, 20, 220), (200, 60, 0)))])
     on_wall = (80.0, 170.0, 50.0, 180.0)
     boxes = {}
     for on in (True, False):
@@ -2446,14 +1657,14 @@ def test_an_occluded_waiting_dancer_left_on_the_empty_floor_goes_back_behind_the
     the empty floor (hdvr synth seed 2907 ballet: 75 frames). There it would be seen, so ``waiting_empty_behind``
     puts it back behind the dancer in front, at its start offset from him (``wait_offset``), and marks the dancer
     ``returned_behind`` (hindsight then leaves the wait where the tracker has it); without it the box stays."""
-    from hdvr.tracking.multi import _box_behind, _offset_behind
+    from hdvr.tracking.geometry import box_behind, offset_behind
 
     rng = np.random.default_rng(5)
     front = (300.0, 150.0, 70.0, 220.0)
     behind = (310.0, 170.0, 50.0, 180.0)  # straight behind: its bottom (350) higher than his (370)
-    first = _two_colour_frame(rng, [(front, ((20, 20, 220), (200, 60, 0)))])
+    first = two_colour_frame(rng, [(front, ((20, 20, 220), (200, 60, 0)))])
     walked = (420.0, 150.0, 70.0, 220.0)  # he walked 120 px right, she with him, hidden
-    later = _two_colour_frame(rng, [(walked, ((20, 20, 220), (200, 60, 0)))])
+    later = two_colour_frame(rng, [(walked, ((20, 20, 220), (200, 60, 0)))])
     boxes = {}
     for on in (True, False):
         tracker = MultiDancerTracker(first, [front, behind], MultiTrackerConfig(waiting_empty_behind=on))
@@ -2464,20 +1675,10 @@ def test_an_occluded_waiting_dancer_left_on_the_empty_floor_goes_back_behind_the
         assert d.status == OCCLUDED and d.hidden_behind == 0 and d.returned_behind == on
         boxes[on] = (d.box, tracker.dancers[0].box)
     mine, his = boxes[True]
-    np.testing.assert_allclose(mine, _box_behind(behind, his, _offset_behind(behind, front)), atol=1e-6)
+    np.testing.assert_allclose(mine, box_behind(behind, his, offset_behind(behind, front)), atol=1e-6)
     assert abs(mine[0] - behind[0] - (his[0] - front[0])) < 1.0  # moved as far as he did
     assert abs(boxes[False][0][0] - behind[0]) < 5, boxes[False]  # on the empty floor where she started
     assert MultiTrackerConfig().waiting_empty_behind
-
-
-def test_a_box_placed_behind_a_moved_front_dancer_keeps_its_offset_in_its_own_heights():
-    from hdvr.tracking.multi import _box_behind, _offset_behind
-
-    offset = _offset_behind((310.0, 170.0, 50.0, 180.0), (300.0, 150.0, 70.0, 220.0))
-    np.testing.assert_allclose(offset, (0.0, -20 / 180))
-    offset = _offset_behind((330.0, 170.0, 50.0, 180.0), (300.0, 150.0, 70.0, 220.0))  # 20 px right of his centre
-    np.testing.assert_allclose(_box_behind((0.0, 0.0, 50.0, 180.0), (400.0, 100.0, 80.0, 240.0), offset),
-                               (440 + 20 - 25, 340 - 20 - 180, 50.0, 180.0))
 
 
 def test_a_long_missed_dancer_whose_box_shows_someone_keeps_its_own_match():
@@ -2489,7 +1690,7 @@ def test_a_long_missed_dancer_whose_box_shows_someone_keeps_its_own_match():
     rng = np.random.default_rng(4)
     shared = (40, 200, 230)
     thin, person = (150.0, 150.0, 40.0, 200.0), (300.0, 150.0, 60.0, 200.0)
-    frame = _two_colour_frame(rng, [(thin, ((20, 20, 220), shared)), (person, ((200, 60, 0), shared))])
+    frame = two_colour_frame(rng, [(thin, ((20, 20, 220), shared)), (person, ((200, 60, 0), shared))])
     jumped = {}
     for limit in (0.1, 0.0):
         tracker = MultiDancerTracker(frame, [thin], MultiTrackerConfig(lost_max_foreground=limit))
@@ -2510,12 +1711,12 @@ def test_a_dancer_in_front_follows_the_person_whose_feet_are_lowest_when_a_stack
     when the feet are level within 0.05 box heights, nor on a box around two people (D 2719 hip-hop: 0.958 -> 0.564
     when such a box, 1.5 x the dancer's height, counted)."""
     rng = np.random.default_rng(6)
-    frame = _two_colour_frame(rng, [((280.0, 180.0, 120.0, 260.0), ((60, 170, 80), (170, 40, 170)))])
+    frame = two_colour_frame(rng, [((280.0, 180.0, 120.0, 260.0), ((60, 170, 80), (170, 40, 170)))])
     in_front, behind = (300.0, 185.0, 120.0, 255.0), (235.0, 120.0, 70.0, 230.0)  # feet at 440 and 350 px
     slid = (230.0, 180.0, 120.0, 260.0)
 
     def follows(limit: float, box, people) -> tuple[bool, tuple]:
-        tracker = _waiting_behind(frame, MultiTrackerConfig(front_follows_feet=limit))
+        tracker = waiting_behind(frame, MultiTrackerConfig(front_follows_feet=limit))
         front = tracker.dancers[1]
         front.box = box
         return tracker._follow_front_feet(front, frame, people), front.box
@@ -2539,14 +1740,14 @@ def test_a_dancer_in_front_does_not_follow_a_person_standing_beside_its_box():
     is not the dancer in front (hdvr synth seed 2819 hip-hop: the front dancer restarted on the dancer beside it,
     34 px beyond its box, and followed her for 85 frames; IDF1 0.823 -> 1.000)."""
     rng = np.random.default_rng(6)
-    frame = _two_colour_frame(rng, [((280.0, 180.0, 120.0, 260.0), ((60, 170, 80), (170, 40, 170)))])
+    frame = two_colour_frame(rng, [((280.0, 180.0, 120.0, 260.0), ((60, 170, 80), (170, 40, 170)))])
     slid = (230.0, 180.0, 80.0, 260.0)  # columns 230-310 px
     behind = (235.0, 120.0, 70.0, 230.0)  # feet at 350 px
     beside = (260.0, 185.0, 200.0, 255.0)  # feet at 440 px, centre at 360 px: 50 px beyond the columns
     on_box = (250.0, 185.0, 100.0, 255.0)  # centre at 300 px, within them
 
     def follows(max_off, person) -> bool:
-        tracker = _waiting_behind(frame, MultiTrackerConfig(front_feet_max_off=max_off))
+        tracker = waiting_behind(frame, MultiTrackerConfig(front_feet_max_off=max_off))
         front = tracker.dancers[1]
         front.box = slid
         return tracker._follow_front_feet(front, frame, [behind, person])
@@ -2564,10 +1765,10 @@ def test_a_waiting_dancers_own_tracker_box_is_no_sighting_of_it():
     re-identified the waiting dancer there as the dancer in front was occluded; G 2762 hip-hop 0.953 -> 0.972);
     once it has come out, it is again."""
     rng = np.random.default_rng(6)
-    frame = _two_colour_frame(rng, [((280.0, 180.0, 120.0, 260.0), ((60, 170, 80), (170, 40, 170)))])
+    frame = two_colour_frame(rng, [((280.0, 180.0, 120.0, 260.0), ((60, 170, 80), (170, 40, 170)))])
     stays = {}
     for on in (True, False):
-        tracker = _waiting_behind(frame, MultiTrackerConfig(waiting_own_box=on))
+        tracker = waiting_behind(frame, MultiTrackerConfig(waiting_own_box=on))
         waiting = tracker.dancers[0]
         stays[on] = tracker._own_box_stays(waiting, waiting.box)
         if not on:
@@ -2575,49 +1776,6 @@ def test_a_waiting_dancers_own_tracker_box_is_no_sighting_of_it():
             assert tracker._own_box_stays(waiting, waiting.box) is True
     assert stays == {True: True, False: False}
     assert MultiTrackerConfig().waiting_own_box is False
-
-
-def test_a_person_coming_out_of_a_chain_is_offered_first_to_the_dancer_hidden_by_one():
-    """Three dancers start in a chain: dancer 0 waits behind dancer 1, who waits behind dancer 2, followed. A person
-    comes out beside them, unlike dancer 2. Dancer 1 is hidden by one dancer, dancer 0 by two: with
-    ``emerge_front_first`` the person is offered to dancer 1 first; before, the dancers' numbers decided and dancer
-    0 took her (hdvr synth G 2766 ballet: 5 switches)."""
-    rng = np.random.default_rng(11)
-    front_box, middle, back = (280.0, 180.0, 120.0, 260.0), (300.0, 150.0, 70.0, 230.0), (310.0, 130.0, 60.0, 200.0)
-    person = (170.0, 160.0, 65.0, 220.0)
-    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
-    later = _two_colour_frame(rng, [(front_box, (green, magenta)), (person, (blue, yellow))])
-    came_out = {}
-    for first in (True, False):
-        tracker = MultiDancerTracker(frame, [back, middle, front_box], MultiTrackerConfig(emerge_front_first=first))
-        d_back, d_middle, d_front = tracker.dancers
-        d_back.hidden_behind, d_middle.hidden_behind, d_front.hidden_behind = 1, 2, None
-        tracker._emerge(later, [front_box, person])
-        came_out[first] = [d.dancer_id for d in (d_back, d_middle) if d.hidden_behind is None]
-    assert came_out == {True: [1], False: [0]}
-    assert MultiTrackerConfig().emerge_front_first
-
-
-def test_a_waiting_dancer_seen_side_on_comes_out_facing_the_camera():
-    """``emerge_max_aspect`` refuses a detection more than 2 x as wide for its height as the waiting dancer's box (a
-    part of a dancer drawn as a person). A start box seen side-on is thin (hdvr synth G 2766 ballet: 38 x 143 px,
-    0.27), and the dancer, turning to the camera as she came out, was "too wide" (0.54). With
-    ``emerge_min_aspect`` (0.3) the box counts as at least that wide: she comes out; a spread arm (0.93) still
-    does not."""
-    rng = np.random.default_rng(12)
-    front_box, thin = (280.0, 180.0, 120.0, 260.0), (320.0, 120.0, 45.0, 200.0)  # aspect 0.225
-    person, wide = (150.0, 130.0, 110.0, 200.0), (150.0, 120.0, 130.0, 140.0)  # aspects 0.55 and 0.93
-    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
-    frame = _two_colour_frame(rng, [(front_box, (green, magenta))])
-    for box, min_aspect, emerged in ((person, 0.3, True), (person, 0.0, False), (wide, 0.3, False)):
-        later = _two_colour_frame(rng, [(front_box, (green, magenta)), (box, (blue, yellow))])
-        tracker = MultiDancerTracker(frame, [thin, front_box], MultiTrackerConfig(emerge_min_aspect=min_aspect))
-        waiting = tracker.dancers[0]
-        assert waiting.hidden_behind == 1
-        tracker._emerge(later, [front_box, box])
-        assert (waiting.hidden_behind is None) == emerged, (box, min_aspect)
-    assert MultiTrackerConfig().emerge_min_aspect == 0.3
 
 
 def test_a_clear_dancer_s_box_trims_sides_that_show_no_foreground(tmp_path):
@@ -2680,9 +1838,9 @@ def test_relocation_takes_no_detection_around_another_dancer():
     rng = np.random.default_rng(12)
     start, front = (100.0, 100.0, 60.0, 200.0), (260.0, 100.0, 60.0, 200.0)
     red, blue, green = (30, 40, 210), (200, 60, 40), (60, 170, 80)
-    frame = _two_colour_frame(rng, [(start, (red, blue)), (front, (green, green))])
+    frame = two_colour_frame(rng, [(start, (red, blue)), (front, (green, green))])
     hidden = (215.0, 100.0, 60.0, 200.0)  # 120 px along the motion, half behind the front dancer
-    later = _two_colour_frame(rng, [(hidden, (red, blue)), (front, (green, green))])
+    later = two_colour_frame(rng, [(hidden, (red, blue)), (front, (green, green))])
     around_both = (205.0, 95.0, 125.0, 210.0)
     assert MultiTrackerConfig().relocate_holder_cores == 1
     for cores, taken in ((0, True), (1, False)):
@@ -2703,7 +1861,7 @@ def test_an_own_tracker_box_behind_the_prediction_is_no_candidate():
     ballet, 44 px behind a 57 px wide box). Ahead, or for a dancer barely moving, it is."""
     rng = np.random.default_rng(3)
     box = (300.0, 100.0, 60.0, 200.0)
-    frame = _two_colour_frame(rng, [(box, ((30, 40, 210), (200, 60, 40)))])
+    frame = two_colour_frame(rng, [(box, ((30, 40, 210), (200, 60, 40)))])
     behind, ahead = (240.0, 100.0, 60.0, 200.0), (340.0, 100.0, 60.0, 200.0)
     assert MultiTrackerConfig().own_box_max_back == 0.5
     for back, velocity, own, stays in ((None, (4.0, 0.0), behind, True), (0.5, (4.0, 0.0), behind, False),
@@ -2733,21 +1891,6 @@ def test_a_dancer_occluded_long_is_found_by_the_whole_frame_search_without_a_det
     assert box_iou(box, boxes[9][0]) > 0.6
     assert statuses(0)[0] == [OCCLUDED] * 8
     assert MultiTrackerConfig().lost_search_after == 15
-
-
-def test_likely_windows_are_the_window_sized_places_with_the_highest_mean_weight():
-    """:func:`likely_windows`: centres of the windows with the highest mean weight, best first, at least
-    ``min_mean``, not two on the same place; a patch smaller than the window scores its share of it."""
-    weights = np.zeros((480, 640), np.float32)
-    weights[100:300, 200:260] = 1.0  # a figure 60 x 200 px, centre (230, 200)
-    weights[250:450, 480:540] = 0.7  # a fainter one, centre (510, 350)
-    weights[20:60, 20:40] = 1.0  # a speck
-    centres = likely_windows(weights, (60, 200), 0.5)
-    assert len(centres) == 2
-    np.testing.assert_allclose(centres[0], (230, 200), atol=6)
-    np.testing.assert_allclose(centres[1], (510, 350), atol=6)
-    assert len(likely_windows(weights, (60, 200), 0.8)) == 1
-    assert likely_windows(np.zeros((480, 640), np.float32), (60, 200), 0.1) == []
 
 
 def test_a_dancer_predicted_out_of_the_frame_while_occluded_is_found_by_the_whole_frame_search(tmp_path):
