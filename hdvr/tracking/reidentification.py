@@ -5,7 +5,9 @@ overlap (own tracker's box or a detection clear of every tracked dancer, whose c
 one well and better than any other occluded dancer's, best matches first), lets an occluded dancer that nothing
 found take a *stray person* (a detection no tracked dancer takes, seen on several detector frames in a row, whose
 colours match its memory), hands a dancer waiting hidden over to the dancer it now stands behind, and searches the
-whole frame for dancers lost on the background.
+whole frame for dancers lost on the background. A clear dancer whose box has held no detected person for
+``max_missed_detections`` detector frames (lost in a jump, say) moves to a person nearby that no one tracks when its
+colours match clearly better there (:meth:`Reidentification._jump_to_detection`), and its tracker restarts.
 
 :class:`Reidentification` is a mixin of :class:`hdvr.tracking.multi.MultiDancerTracker`: it reads the tracker's
 ``config`` (:class:`hdvr.tracking.config.MultiTrackerConfig`, the ``reid_*``, ``stray_*`` and ``lost_*`` fields),
@@ -301,3 +303,112 @@ class Reidentification:
                    for d in looked_for):
                 handed[dets[k]] = holder
         return handed
+
+    def _histogram_matches(self, frame, candidates, rivals, box_rivals=None,
+                           histograms: dict | None = None) -> list[tuple[DancerTrack, tuple, float]]:
+        """One-to-one matches of dancers to candidate boxes (px) by colour histogram, best first:
+        ``candidates`` is a list of (dancer, boxes). A box is taken for its dancer when its histogram correlates
+        with the dancer's memory at least ``reid_similarity`` and better by ``reid_margin`` than with the memory of
+        every other dancer in ``rivals`` (and in ``box_rivals[box]``, dancers that box stands beside; and, with
+        ``hidden_front_rival``, the dancer hiding a dancer that still waits to come out from behind it; over a
+        dancer that still waits behind the dancer matched, by ``reid_waiting_margin`` only), and when it
+        is clear of the boxes taken before (the dancer in front of a group shows whole and is taken first). Returns
+        (dancer, box, similarity) triples. ``histograms``: colour histograms of boxes already computed, by box
+        tuple; each box's is computed once, whatever the number of dancers it is a candidate for."""
+        c = self.config
+        histograms = {} if histograms is None else histograms
+        options = []
+        for d, boxes in candidates:
+            for box in boxes:
+                hist = self._cached_histogram(frame, histograms, tuple(float(v) for v in box), box)
+                score = histogram_similarity(hist, d.stored_histogram)
+                if score >= c.reid_similarity:
+                    options.append((score, d.dancer_id, box, hist))
+        matches: list[tuple[DancerTrack, tuple, float]] = []
+        for score, i, box, hist in sorted(options, key=lambda o: -o[0]):
+            d = self.dancers[i]
+            if any(m[0] is d for m in matches) or any(self._bodies_overlap(box, m[1]) > c.overlap_threshold
+                                                      for m in matches):
+                continue
+            extra = list((box_rivals or {}).get(tuple(box), []))
+            if c.hidden_front_rival and d.hidden_behind is not None:  # its memory shows the dancer in front
+                extra.append(self.dancers[d.hidden_behind])
+            if any(histogram_similarity(hist, o.stored_histogram) >
+                   score - (c.reid_waiting_margin if o.hidden_behind == d.dancer_id else c.reid_margin)
+                   for o in list(rivals) + extra if o is not d):
+                continue
+            matches.append((d, box, score))
+        return matches
+
+    def _jump_to_detection(self, d: DancerTrack, frame, detections, on_background: bool | None = None) -> bool:
+        """A dancer whose box has held no detected person for a while moves to a detected person nearby that
+        nobody else tracks, if that person's histogram matches the stored one clearly better than the box does
+        (the tracker drifted off, e.g. in a jump). After ``long_lost_detections`` detector frames without a person
+        on its box, the box's own match no longer counts (a box left on a static background keeps matching a
+        memory learned there), unless the box still shows someone (``lost_max_foreground``): the person is taken if
+        it matches this dancer's memory at least ``relocate_min_similarity`` and better by ``reid_margin`` than the
+        memory of every other dancer not held by a detection of its own (one that is cannot be this person). With
+        ``jump_rivals``, at any time, it must also match by ``reid_margin`` better than the memory of every other
+        dancer showing its own colours (a person that looks like another dancer is that dancer, lost too, not this
+        one). ``on_background``: whether the box shows less than ``lost_max_foreground`` foreground, if the caller
+        measured it already. Returns whether it moved."""
+        c = self.config
+        # a box that still shows someone (``lost_max_foreground``) is on a dancer the detector misses (a thin one far
+        # back), not on the background: its own match counts however long no person was detected on it
+        long_lost = d.missed >= c.long_lost_detections and (c.lost_max_foreground <= 0 or (
+            on_background if on_background is not None
+            else not self._shows_someone(frame, d, [d.box], c.lost_max_foreground)[0]))
+        current = self._memory_match(d, frame)
+        others = [o for o in self.dancers if o is not d]
+        # dancers the person must match worse (by reid_margin) than this one: when long lost, those not held by a
+        # detection of their own; with jump_rivals, every one showing its own colours
+        rivals = [o for o in others if (long_lost and not (o.status == TRACKED and o.missed == 0))
+                  or (c.jump_rivals and o.hidden_behind is None)]
+        best, best_score = None, c.relocate_min_similarity if long_lost else max(current + 0.1,
+                                                                                  c.relocate_min_similarity)
+        for det in detections:
+            if any(box_iou(det, o.box) > 0.3 for o in others) or not self._single_person(d, det):
+                continue
+            off = np.array([det[0] + det[2] / 2, det[1] + det[3] / 2]) - d.center
+            if np.linalg.norm(off) > c.lost_search_heights * d.box[3]:
+                continue
+            hist = self._histogram(frame, det)
+            score = histogram_similarity(hist, d.stored_histogram)
+            if any(histogram_similarity(hist, o.stored_histogram) > score - c.reid_margin for o in rivals):
+                continue
+            if score > best_score:
+                best, best_score = tuple(float(v) for v in det), score
+        if best is None:
+            return False
+        self._restart(d, frame, best, best_score)
+        if long_lost:
+            d.recovering_until = self.frame_index + c.recovery_frames
+        return True
+
+    def _restart(self, d: DancerTrack, frame, box, score: float) -> None:
+        """Restart dancer ``d``'s tracker on ``box`` (its filter learned whatever it drifted onto)."""
+        d.offset = np.zeros(2)
+        d.tracker.init(frame, self._core(box))
+        d.box, d.missed, d.confidence = tuple(float(v) for v in box), 0, float(np.clip(score, 0, 1))
+        d.detected_at_edge, d.lost_on_background, d.behind_stranger = None, False, False
+        d.hidden_aspect, d.hidden_sides = None, (False, False)
+        d.centers, d.clear_track = [d.body_center], []
+        d.stored_box, d.stored_frame = d.box, self.frame_index
+        if self.config.restart_hands_over_waiting:
+            self._hand_over_waiting(d)
+
+    def _restart_on_stuck(self, d: DancerTrack, frame, detection) -> None:
+        """Dancer ``d``, clear of the others, has had ``detection`` (x, y, w, h px), one person alone, on its box for
+        ``stuck_persist`` detector frames in a row without being able to adapt to it (too far off): its box moves
+        onto it (centred there, at the dancer's box-to-detection size, :meth:`_box_size`) and its tracker restarts
+        there. Its colour memory and stored velocity are kept (no re-identification happens; :meth:`_restart`
+        touches neither)."""
+        self._restart_on_detection(d, frame, detection)
+        d.stuck, d.adapted_at = 0, self.frame_index
+
+    def _restart_on_detection(self, d: DancerTrack, frame, detection) -> None:
+        """Dancer ``d``'s box moves onto ``detection`` (x, y, w, h px: centred there, at the dancer's box-to-detection
+        size, :meth:`_detected_size`) and its tracker restarts there (:meth:`_restart`)."""
+        w, h = self._detected_size(d, detection)
+        cx, cy = box_centre(detection)
+        self._restart(d, frame, (cx - w / 2, cy - h / 2, float(w), float(h)), d.confidence)
