@@ -65,7 +65,7 @@ import numpy as np
 
 from hdvr.tracking.adaptation import DetectionAdaptation
 from hdvr.tracking.appearance import box_iou, box_overlap, clip_box, colour_histogram, histogram_similarity
-from hdvr.tracking.config import MultiTrackerConfig  # noqa: F401  (part of this module's interface)
+from hdvr.tracking.config import MultiTrackerConfig
 from hdvr.tracking.edges import FrameEdges
 from hdvr.tracking.emergence import Emergence
 from hdvr.tracking.extent import ReportedExtent

@@ -1,4 +1,4 @@
-"""Occluded and lost dancers found again (steps 4-6 of Algorithm 1*, :mod:`hdvr.tracking.multi`).
+"""Occluded and lost dancers found again (steps 4 and 6 of Algorithm 1*, :mod:`hdvr.tracking.multi`).
 
 :class:`Reidentification` re-identifies occluded dancers that show clearly again before the predicted end of their
 overlap (own tracker's box or a detection clear of every tracked dancer, whose colour histogram matches the stored
