@@ -74,6 +74,7 @@ BEFORE_AFTER = (
      "tracking_emerge_past_unlike_occluded_s2844_hip_hop_095.jpg"),
     (3016, 5, "ballet", 4, 60, "stray_adrift_height_change", "tracking_stray_adrift_height_s3016_ballet_060.jpg"),
     (3038, 4, "hip_hop", 4, 40, "reid_past_waiting", "tracking_reid_past_waiting_s3038_hip_hop_040.jpg"),
+    (3081, 4, "hip_hop", 4, 55, "front_long_run", "tracking_front_long_run_s3081_hip_hop_055.jpg"),
 )
 #: (figures, seed, frame, picture name): a procedural crossing clip (``bench_track.py --sections identity``) where a
 #: figure that walked on behind another is held where it went behind without ``HindsightSettings.hold_min_cover``

@@ -526,6 +526,35 @@ def test_the_front_dancer_takes_the_limb_its_own_arm_points_to():
     np.testing.assert_allclose(result.boxes, STACKED_BOXES, atol=1e-6)
 
 
+@pytest.mark.parametrize("tip", [140.0, 160.0])
+def test_the_front_dancer_takes_a_limb_too_long_for_the_dancer_behind(tip):
+    """Beside a stacked pair runs a limb that reaches further beyond the box of the dancer behind than
+    ``front_long_run`` x its height, while the detector drew the front dancer's arm folded in (seed 3063 swing
+    couple). With the rule the limb is the front dancer's: its box takes it, and the box of the dancer behind does
+    not. Without it, a limb beyond the reach of the dancer behind (``stacked_max_reach`` x its height, tip at x 140)
+    is nobody's, and a shorter one (tip at x 160) is taken for the arm of the dancer behind."""
+    frame, kp_a = _stacked_scene()
+    # A's arm, out to x ``tip``: 122 or 102 px beyond A's box, within A's reach (0.45 x 288 px); 130 or 110 px
+    # beyond B's box, more than 0.4 x B's height (103 px) either way, and than 0.45 x it (116 px) at x 140 only
+    cv2.line(frame, tuple(int(v) for v in kp_a[6, :2]), (int(tip), 170), (200, 60, 40), 10)
+    boxes = {}
+    for rule in (0.4, None):
+        tracker = MultiDancerTracker(_stacked_scene()[0], STACKED_BOXES, MultiTrackerConfig(front_long_run=rule))
+        for _ in range(8):
+            result = tracker.extend_to_poses(frame, [_pose(kp_a), None], [float("inf"), None])
+        boxes[rule] = result.boxes
+    a, b = boxes[0.4]
+    assert tip - 5 < a[0] < tip + 10, a
+    assert a[0] + a[2] == pytest.approx(338.0, abs=1), a
+    np.testing.assert_allclose(b, STACKED_BOXES[1], atol=1e-6)
+    a, b = boxes[None]
+    np.testing.assert_allclose(a, STACKED_BOXES[0], atol=1e-6)
+    if tip == 140.0:
+        np.testing.assert_allclose(b, STACKED_BOXES[1], atol=1e-6)
+    else:
+        assert tip - 5 < b[0] < tip + 10 and b[0] + b[2] == pytest.approx(330.0, abs=1), b
+
+
 def test_the_front_dancer_s_arm_is_sought_at_its_own_arm_height():
     """Behind a tall dancer in front stands a much shorter one (further back): the front dancer's spread arm, at
     its own shoulder height, lies above the rows where the dancer behind has its arms. ``front_own_band`` scans the

@@ -761,9 +761,10 @@ def test_a_couple_s_hidden_partner_is_carried_with_the_dancer_in_front():
     """Her box is his box mapped as his start box maps onto hers: frame 4, his box (80, 42, 100, 216), 1.08 his
     start height: height 160 x 1.08, width 100 x 40 / 60 (her start width over his), centre 10 px right of his and
     bottom 10 px above his, each x 1.08. Frames where his whole pose is not seen (5) or hers is (7) keep her box, and
-    so do his boxes, other dancers' and the frames where she is seen."""
+    so do his boxes, other dancers' and the frames where she is seen. His height frame by frame
+    (``scale_window`` 0; his box grows steadily here)."""
     boxes, status, keypoints = _couple_in_hold()
-    carried = follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints)
+    carried = follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints, scale_window=0)
     np.testing.assert_allclose(carried[4, 1], [140.8 - 100 / 3, 74.4, 200 / 3, 172.8])
     np.testing.assert_allclose(carried[0, 1], boxes[0, 1])  # at her start, her start box
     np.testing.assert_array_equal(carried[[5, 7], 1], boxes[[5, 7], 1])
@@ -772,6 +773,29 @@ def test_a_couple_s_hidden_partner_is_carried_with_the_dancer_in_front():
     seen = [("tracked", "hidden")] * 3 + [("tracked", "tracked")] * 7
     np.testing.assert_array_equal(follow_partner_in_hold(boxes, seen, [(0, 1, 0)], keypoints)[3:], boxes[3:])
     np.testing.assert_array_equal(follow_partner_in_hold(boxes, status, [], keypoints), boxes)
+
+
+def test_a_couple_s_hidden_partner_keeps_her_height_while_his_box_loses_his_raised_arms():
+    """His box (refined or not) drops his raised arms on two frames, 40 px shorter with its bottom where it was
+    (2950 tango): carried with his height frame by frame (``scale_window`` 0), her box shrinks to 0.8 of her height
+    there; with the median of his heights over 3 frames on each side it keeps her start box throughout."""
+    frames = 10
+    front = np.tile([100.0, 50.0, 60.0, 200.0], (frames, 1))
+    front[4:6, 1] += 40.0
+    front[4:6, 3] -= 40.0
+    behind = np.tile([120.0, 80.0, 40.0, 160.0], (frames, 1))
+    boxes = np.stack([front, behind], axis=1)
+    status = [("tracked", "hidden")] * frames
+    keypoints = np.zeros((frames, 2, 25, 3))
+    keypoints[..., :2] = 150.0
+    keypoints[:, 0, :19, 2] = 0.9  # all of his COCO-17 joints seen
+    each = follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints, scale_window=0)
+    np.testing.assert_allclose(each[4, 1, 3], 0.8 * 160.0)
+    steady = follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints, scale_window=3)
+    np.testing.assert_allclose(steady[:, 1], behind)
+    np.testing.assert_array_equal(steady[:, 0], front)
+    with pytest.raises(ValueError, match="scale_window"):
+        follow_partner_in_hold(boxes, status, [(0, 1, 0)], keypoints, scale_window=-1)
 
 
 def test_only_a_couple_s_hidden_partner_is_carried():
@@ -835,14 +859,15 @@ def test_a_couple_s_occluded_partner_is_carried_with_the_dancer_in_front():
     """Occluded after frame 2, to the end: frame 4, his box (80, 42, 100, 216), 216 / 208 his height at frame 2: her
     centre 10 px right of his and bottom 14 px above his, each x 216 / 208, height 160 x 216 / 208, width 100 x 40 / 80
     (hers over his at frame 2). Seen again at frame 7, 20 px right of where the couple would have carried her: the
-    stretch blends towards that: at frame 6, 4 / 5 of the way to 20 px right, scaled with his height (224 / 228)."""
+    stretch blends towards that: at frame 6, 4 / 5 of the way to 20 px right, scaled with his height (224 / 228). His
+    height frame by frame (``scale_window`` 0)."""
     boxes, status, keypoints = _couple_occluded(seen_again=False)
-    carried = follow_partner_in_hold(boxes, status, [], keypoints)
+    carried = follow_partner_in_hold(boxes, status, [], keypoints, scale_window=0)
     np.testing.assert_allclose(carried[4, 1], [115.3846, 77.3077, 50.0, 166.1538], rtol=1e-5)
     np.testing.assert_array_equal(carried[:3], boxes[:3])
     np.testing.assert_array_equal(carried[:, 0], boxes[:, 0])
     boxes_again, status_again, _ = _couple_occluded(seen_again=True)
-    again = follow_partner_in_hold(boxes_again, status_again, [], keypoints)
+    again = follow_partner_in_hold(boxes_again, status_again, [], keypoints, scale_window=0)
     np.testing.assert_allclose(again[6, 1], carried[6, 1] + [16.0 * 224 / 228, 0, 0, 0], rtol=1e-9)
     np.testing.assert_array_equal(again[7:], boxes_again[7:])
     unposed = keypoints.copy()

@@ -650,6 +650,12 @@ class MultiTrackerConfig:
     # makes a limb on that side possibly its own
     front_extent: bool = True  # ... and the dancer in front of such a pair as far as foreground runs on from its
     # box on a side its own skeleton reaches or points to (:meth:`MultiDancerTracker._front_reach`)
+    front_long_run: float | None = 0.4  # x the hidden dancer's box height: a run beside a stacked pair reaching
+    # further than this beyond the hidden dancer's box is not its arm but the front dancer's, drawn without it by the
+    # detector (seed 3063 swing): the front dancer's box takes it on a side its skeleton does not reach too, and the
+    # hidden dancer's does not (:meth:`MultiDancerTracker._too_long_for`; session 87: 0.45, 0.4, 0.35 mend 1, 2, 2 of
+    # the 44 failing clips, none worse; 0.4, about an arm's length less the shoulder's inset, on all 1,743: see
+    # docs/benchmarks.md "Session 87"); None: off
     front_own_band: bool = True  # ... that run scanned at the front dancer's own arm height (``pixel_band`` of its
     # box), not at the hidden dancer's (sessions 11-17; a shorter dancer further back has its arms lower in the
     # image, and the front dancer's arms then fell outside the rows scanned)

@@ -441,7 +441,8 @@ class ReportedExtent:
         (``pairs``: :meth:`_stacked_pairs`): foreground running on from f's box at arm height further than
         ``stacked_tolerance`` x f's height, on a side where f's own skeleton neither reaches nor points, is a limb
         of a dancer behind f: dancer ``i``'s box reaches as far, unless that is more than ``stacked_max_reach`` x
-        its height (shoulder to fingertip; a longer limb is not its own)."""
+        its height (shoulder to fingertip; a longer limb is not its own), or more than ``front_long_run`` x it (the
+        front dancer takes that limb, :meth:`_front_reach`)."""
         c = self.config
         d = self.dancers[i]
         left = right = 0.0
@@ -451,6 +452,8 @@ class ReportedExtent:
             fx, _, fw, fh = f.box
             slack = c.stacked_tolerance * fh
             longest = c.stacked_max_reach * d.box[3]  # a longer limb cannot be d's
+            if c.front_long_run is not None:
+                longest = min(longest, c.front_long_run * d.box[3])  # ... and f takes it (:meth:`_front_reach`)
             if run_left > slack and not own[0]:
                 reach = d.box[0] - (fx - run_left)
                 left = max(left, reach if reach <= longest else 0.0)
@@ -463,17 +466,37 @@ class ReportedExtent:
         """Extent (px, left and right of its box) of dancer ``i`` standing straight in front of a dancer without a
         pose (``pairs``: :meth:`_stacked_pairs`; :meth:`_pixel_reach` gives such a pair nothing): on a side where
         ``i``'s own skeleton reaches or points out, the foreground running on from its box at its own arm height
-        (``front_runs``) is taken as its arm, up to ``stacked_max_reach`` x its height."""
+        (``front_runs``) is taken as its arm, up to ``stacked_max_reach`` x its height. With ``front_long_run`` also
+        on a side where its skeleton does not reach, when the run there (at the hidden dancer's arm height, as
+        :meth:`_stacked_reach` scans it) is longer than ``stacked_tolerance`` x its height and reaches further beyond
+        the hidden dancer's box than ``front_long_run`` x that dancer's height (:meth:`_too_long_for`): the limb is
+        then not the hidden dancer's but this one's, drawn short or folded in by the detector."""
         c = self.config
         d = self.dancers[i]
         left = right = 0.0
-        for _, front, _, own, (run_left, run_right) in pairs:
+        for hidden, front, runs, own, (run_left, run_right) in pairs:
             if front is not d:
                 continue
             longest = c.stacked_max_reach * d.box[3]
-            left = max(left, min(run_left, longest) if own[0] else 0.0)
-            right = max(right, min(run_right, longest) if own[1] else 0.0)
+            mine = own
+            if c.front_long_run is not None:
+                mine = (own[0] or self._too_long_for(hidden, d, runs[0], 0),
+                        own[1] or self._too_long_for(hidden, d, runs[1], 1))
+            left = max(left, min(run_left, longest) if mine[0] else 0.0)
+            right = max(right, min(run_right, longest) if mine[1] else 0.0)
         return left, right
+
+    def _too_long_for(self, hidden: DancerTrack, front: DancerTrack, run: float, side: int) -> bool:
+        """Whether a foreground ``run`` (px) beside ``front``'s box on ``side`` (0 left, 1 right) is a limb
+        (longer than ``stacked_tolerance`` x ``front``'s height) reaching further beyond dancer ``hidden``'s box than
+        ``front_long_run`` x its height (about its arm's length: a longer limb is not its own)."""
+        c = self.config
+        fx, _, fw, fh = front.box
+        hx, _, hw, hh = hidden.box
+        if run <= c.stacked_tolerance * fh:
+            return False
+        beyond = hx - (fx - run) if side == 0 else fx + fw + run - hx - hw
+        return beyond > c.front_long_run * hh
 
     def _grabcut_reach(self, i: int, frame, fg: np.ndarray, poses, margins) -> tuple[float, float]:
         """Extent (px, left and right of its box) of dancer ``i`` in a group, from its own segment.

@@ -144,7 +144,10 @@ clips tracked by session 80's code: 35 -> 27 failing, 10 mended (3004 tango, 304
 his spread arms or his height (3063 swing 0.988 -> 0.979 with a switch, 2950 tango 0.958 -> 0.954 with a switch); 302
 more clips without a couple hidden unchanged. For the waits 12 joints gave the same as 13, 14 one fewer mended and one
 fewer broken, 15 (``MIN_FULL_POSE``: his face is mostly turned from the camera, 3 of its 5 points unseen) left most
-frames as they were, 35 -> 36 (docs/benchmarks.md "Session 81").
+frames as they were, 35 -> 36 (docs/benchmarks.md "Session 81"). Session 87: his height, by which she scales, is
+the median over ``PARTNER_SCALE_WINDOW`` (8) frames on each side of the heights of his boxes around his whole pose:
+his box loses his raised arms on some frames, and she shrank with it (the two clips broken above mended; 1,743 clips
+44 -> 42 failing).
 
 Boxes are (x, y, w, h) pixels, top-left origin; arrays are indexed (frame, dancer).
 """
@@ -197,6 +200,11 @@ PARTNER_FRONT_JOINTS = 13
 #: must lie for her pose to count as her own (:func:`follow_partner_in_hold`; Algorithm 2* may give her his pose;
 #: session 81, the only value tried: in 3004 tango her keypoints lie a median 44 px, 0.2 of her height, from his)
 PARTNER_TORSO_APART = 0.1
+#: frames on each side over which the height of the dancer in front, by which a couple's hidden partner scales, is
+#: a median (:func:`follow_partner_in_hold`; 0: each frame's own height). Session 87, on session 84's runs of 1,743
+#: clips: 44 -> 42 failing (2950 tango, 3063 swing mended), HOTA level; 15 also 42 and 30 43 (measured with every
+#: frame's height in the median, before it kept to frames with his whole pose); docs/benchmarks.md "Session 87"
+PARTNER_SCALE_WINDOW = 8
 #: how far (in box heights) above or below its box a keypoint may lie for the pose to count as the dancer's
 POSE_HEIGHT_MARGIN = 0.1
 #: how far a dancer reaches above its highest keypoint (the top of the head above the face keypoints, the fingers
@@ -682,16 +690,31 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
     return out
 
 
-def _carried(his: np.ndarray, his_then: np.ndarray, own_then: np.ndarray, width_ratio: float) -> np.ndarray:
+def _carried(his: np.ndarray, his_then: np.ndarray, own_then: np.ndarray, width_ratio: float,
+             heights: np.ndarray | None = None, height_then: float | None = None) -> np.ndarray:
     """(F, 4) px boxes of a partner carried with the dancer in front: his boxes ``his`` (F, 4) px mapped as his box
     ``his_then`` mapped onto hers, ``own_then`` (both (4,) px): her height and her offsets from his centre and bottom
-    scaled with his height, her width his width times ``width_ratio``."""
-    scale = his[:, 3] / his_then[3]
+    scaled with his height (``heights`` (F,) px and ``height_then`` px in place of his boxes' when given), her width
+    his width times ``width_ratio``."""
+    scale = (his[:, 3] if heights is None else heights) / (his_then[3] if height_then is None else height_then)
     centre = his[:, 0] + his[:, 2] / 2 + (own_then[0] + own_then[2] / 2 - his_then[0] - his_then[2] / 2) * scale
     bottom = his[:, 1] + his[:, 3] + (own_then[1] + own_then[3] - his_then[1] - his_then[3]) * scale
     height = own_then[3] * scale
     width = his[:, 2] * width_ratio
     return np.stack([centre - width / 2, bottom - height, width, height], axis=1)
+
+
+def _running_median(values: np.ndarray, half: int) -> np.ndarray:
+    """(T, ...) median of ``values`` over the frames within ``half`` of each (NaN ignored; NaN where all are);
+    ``values`` itself for ``half`` 0."""
+    if half <= 0:
+        return values
+    out = np.full(values.shape, np.nan)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an all-NaN window stays NaN
+        for t in range(len(values)):
+            out[t] = np.nanmedian(values[max(0, t - half):t + half + 1], axis=0)
+    return out
 
 
 def _torso_centre(keypoints: np.ndarray, min_confidence: float) -> np.ndarray:
@@ -707,7 +730,8 @@ def _torso_centre(keypoints: np.ndarray, min_confidence: float) -> np.ndarray:
 def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: np.ndarray,
                            min_confidence: float = MIN_KEYPOINT_CONFIDENCE, front_joints: int = PARTNER_FRONT_JOINTS,
                            own_keypoints: int = MIN_KEYPOINTS,
-                           torso_apart: float = PARTNER_TORSO_APART) -> np.ndarray:
+                           torso_apart: float = PARTNER_TORSO_APART,
+                           scale_window: int = PARTNER_SCALE_WINDOW) -> np.ndarray:
     """``boxes`` (T, N, 4) px of a video of exactly two dancers (N == 2: a couple) with the box of a partner hidden
     behind the other carried along with his (module docstring), on the frames where the dancer in front shows at
     least ``front_joints`` of the 17 COCO-17 joints (BODY_25 ``keypoints`` (T, N, 25, 3): x px, y px, confidence;
@@ -724,13 +748,23 @@ def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: 
       his width times hers over his then; where she is seen again right after the stretch, blended linearly
       towards the mapping of that frame's boxes.
 
+    His height, by which her box scales, is the median of his box heights over the ``scale_window`` frames on each
+    side on which his pose shows ``front_joints`` joints (his box is his whole body there; 0: each frame's own, as
+    on frames with no such frame near): his box, even refined, loses his raised arms or a bent knee on some frames
+    (2950 tango: 275 px around a dancer of 357 with raised arms), and she did not shrink with them.
+
     Other frames, clips of any other number of dancers and the input are not changed."""
     boxes, status = _checked(boxes, status, front_joints=front_joints, own_keypoints=own_keypoints)
+    if scale_window < 0:
+        raise ValueError(f"scale_window must be >= 0, got {scale_window}")
     keypoints = _checked_keypoints(keypoints, boxes)
     out = boxes.copy()
     if boxes.shape[1] != 2:
         return out
     front_seen = _confident(keypoints[:, :, _FULL_POSE], min_confidence).sum(axis=-1)
+    whole = np.where(front_seen >= front_joints, boxes[:, :, 3], np.nan)  # heights of boxes around a whole body
+    heights = _running_median(whole, scale_window)  # (T, 2) px
+    heights = np.where(np.isfinite(heights), heights, boxes[:, :, 3])
     own_seen = _confident(keypoints, min_confidence).sum(axis=-1)
     for first, dancer, front in hidden_starts:
         his_start, own_start = boxes[first, front], boxes[first, dancer]
@@ -738,7 +772,8 @@ def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: 
             continue
         waiting = _waiting_frames(boxes, status, dancer, front, first, _wait_end(status, dancer, first))
         frames = waiting[(front_seen[waiting, front] >= front_joints) & (own_seen[waiting, dancer] < own_keypoints)]
-        out[frames, dancer] = _carried(boxes[frames, front], his_start, own_start, own_start[2] / his_start[2])
+        out[frames, dancer] = _carried(boxes[frames, front], his_start, own_start, own_start[2] / his_start[2],
+                                       heights[frames, front], heights[first, front])
         posed = waiting[own_seen[waiting, dancer] >= own_keypoints]
         centre = _torso_centre(keypoints[posed, dancer], min_confidence)
         with np.errstate(invalid="ignore"):  # his torso unseen (NaN): hers is her own
@@ -759,7 +794,8 @@ def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: 
                 continue
             ends = [begin - 1, end + 1] if seen(end + 1, dancer) else [begin - 1]
             carried = [_carried(boxes[frames, front], boxes[t, front], boxes[t, dancer],
-                                boxes[t, dancer, 2] / boxes[t, front, 2]) for t in ends]
+                                boxes[t, dancer, 2] / boxes[t, front, 2], heights[frames, front], heights[t, front])
+                       for t in ends]
             if len(ends) == 2:
                 weight = ((frames - (begin - 1)) / (end + 2 - begin))[:, None]
                 carried = [(1 - weight) * carried[0] + weight * carried[1]]
@@ -805,6 +841,7 @@ class HindsightSettings:
     depth_stature_factor: float = DEPTH_STATURE_FACTOR
     follow_partner: bool = True
     partner_front_joints: int = PARTNER_FRONT_JOINTS
+    partner_scale_window: int = PARTNER_SCALE_WINDOW
 
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
@@ -848,5 +885,6 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     if s.amodal_boxes:
         boxes = refine_boxes(boxes, status, keypoints, weights=s.amodal_weights)
     if s.follow_partner:
-        boxes = follow_partner_in_hold(boxes, status, hidden_starts, keypoints, front_joints=s.partner_front_joints)
+        boxes = follow_partner_in_hold(boxes, status, hidden_starts, keypoints, front_joints=s.partner_front_joints,
+                                       scale_window=s.partner_scale_window)
     return boxes, filled
