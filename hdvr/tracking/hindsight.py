@@ -191,6 +191,12 @@ MIN_KEYPOINT_CONFIDENCE = 0.3
 MIN_KEYPOINTS = 5
 #: of the 17 COCO-17 joints, how many a pose must show (confidence ``MIN_KEYPOINT_CONFIDENCE``) to lower a box's top
 MIN_FULL_POSE = 15
+#: the longest occluded stretch (frames) that :func:`fill_occluded` fills: hidden for longer (1.3 s at 30 frames/s),
+#: a dancer may have turned back, and the line between where it was seen before and after is no better than the
+#: tracker's own prediction (as offline trackers cap the gaps they interpolate: StrongSORT's linear interpolation, 20
+#: frames). Session 87, on the 1,743 clips' runs: 41 -> 40 failing (3060 hip-hop 0.890 -> 0.933), 9 up / 5 down;
+#: 20 frames 41 -> 39 with 19 down; 30 39 (one of them at IDF1 0.900 exactly), 7 down; 60 41; docs/benchmarks.md
+MAX_FILL_FRAMES = 40
 #: of the 17 COCO-17 joints, how many the dancer in front must show for a couple's hidden partner to follow his box
 #: (:func:`follow_partner_in_hold`, measured on the waits alone; session 81: 12 and 13 gave 30 failing clips of
 #: 1,141, 35 without the step; 14 30 as well, with one fewer mended and one fewer broken; 15 36; no test of his pose
@@ -322,8 +328,10 @@ def interpolate_boxes(start, end, steps: int) -> np.ndarray:
     return np.concatenate([centre - size / 2, size], axis=1)
 
 
-def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTER) -> tuple[np.ndarray, np.ndarray]:
-    """Fill with hindsight the boxes of the stretches in which each dancer was occluded (module docstring).
+def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTER,
+                  max_frames: int | None = MAX_FILL_FRAMES) -> tuple[np.ndarray, np.ndarray]:
+    """Fill with hindsight the boxes of the stretches in which each dancer was occluded (module docstring), those of
+    at most ``max_frames`` frames (None: any length).
 
     ``boxes`` (T, N, 4) px, NaN where a dancer is absent or out of the frame; ``status`` T sequences of N strings
     (``tracked``, ``occluded``, ``hidden``, ``out``, ``absent``). Returns the new boxes and a (T, N) bool mask of the
@@ -339,6 +347,8 @@ def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTE
             before, after = first - 1, last + 1
             if before < 0 or not seen[before] or after >= num_frames or \
                     not seen[after:after + min_seen_after].all():  # not seen before, or lost again (or never seen)
+                continue
+            if max_frames is not None and after - first > max_frames:
                 continue
             ends = boxes[[before, after], i]
             if not np.isfinite(ends).all() or (ends[:, 2:] <= 0).any():
@@ -819,7 +829,8 @@ class HindsightSettings:
     over ``horizon_min_spread`` of its height, and ``depth_stature_factor`` its check of the waiting dancer's start
     against the horizon. ``amodal_boxes``: :func:`hdvr.tracking.amodal.refine_boxes`, with the weights at
     ``amodal_weights`` ("": the shipped ones). ``follow_partner``: end with :func:`follow_partner_in_hold`, its
-    ``front_joints`` ``partner_front_joints``."""
+    ``front_joints`` ``partner_front_joints`` and its ``scale_window`` ``partner_scale_window`` (frames).
+    ``max_fill_frames``: :func:`fill_occluded`'s ``max_frames`` (None: stretches of any length filled)."""
 
     min_seen_after: int = MIN_SEEN_AFTER
     keypoint_reach: float = KEYPOINT_REACH
@@ -842,6 +853,7 @@ class HindsightSettings:
     follow_partner: bool = True
     partner_front_joints: int = PARTNER_FRONT_JOINTS
     partner_scale_window: int = PARTNER_SCALE_WINDOW
+    max_fill_frames: int | None = MAX_FILL_FRAMES
 
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
@@ -866,7 +878,7 @@ def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_widt
     s = settings or HindsightSettings()
     online = np.asarray(boxes, float)
     offsets, feet = start_offsets(online, hidden_starts), start_feet(online, hidden_starts)
-    boxes, filled = fill_occluded(boxes, status, min_seen_after=s.min_seen_after)
+    boxes, filled = fill_occluded(boxes, status, min_seen_after=s.min_seen_after, max_frames=s.max_fill_frames)
     boxes = hold_last_seen(boxes, status, filled, weight=s.hold_weight,
                            stopped=stopped_behind if s.keep_stopped else None, min_cover=s.hold_min_cover)[0]
     boxes = enclose_keypoints(boxes, status, keypoints, reach=s.keypoint_reach, frame_width=frame_width)[0]
