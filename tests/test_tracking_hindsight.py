@@ -4,8 +4,8 @@ start offset (hdvr.tracking.hindsight)."""
 import numpy as np
 import pytest
 
-from hdvr.tracking.hindsight import (HIDDEN_FEET_TOLERANCE, HIDDEN_FILL_WEIGHT, HOLD_WEIGHT, MAX_FILL_FRAMES,
-                                     MIN_SEEN_AFTER, START_OFFSET_WEIGHT, START_PLACE_WEIGHT, HindsightSettings,
+from hdvr.tracking.hindsight import (HIDDEN_FEET_TOLERANCE, HIDDEN_FILL_WEIGHT, HOLD_WEIGHT, MIN_SEEN_AFTER,
+                                     START_OFFSET_WEIGHT, START_PLACE_WEIGHT, HindsightSettings,
                                      apply_hindsight, enclose_keypoints, fill_hidden_until_seen, fill_occluded,
                                      follow_partner_in_hold, hold_last_seen, interpolate_boxes,
                                      keep_feet_behind_front, keep_start_offset, keep_start_place, occluded_stretches,
@@ -65,17 +65,16 @@ def test_a_stretch_ended_by_a_short_sighting_is_not_filled():
 
 
 def test_a_stretch_longer_than_max_frames_is_not_filled():
-    """Hidden for longer than ``max_frames`` (default ``MAX_FILL_FRAMES``, 40 frames) a dancer may have turned back:
-    the line between where it was seen before and after is no better than the prediction, which stays (3060
-    hip-hop). With ``max_frames`` None the stretch is filled whatever its length."""
+    """With ``max_frames`` (measured in session 87, not the default) a stretch longer than that keeps the
+    prediction; by default, or with a cap it fits under, it is filled whatever its length."""
     truth = _walk(60)
     boxes = truth.copy()
     boxes[5:50, 0] = truth[4, 0]  # 45 frames occluded
     status = _status(60, range(5, 50))
-    filled, mask = fill_occluded(boxes, status)
+    filled, mask = fill_occluded(boxes, status, max_frames=40)
     np.testing.assert_array_equal(filled, boxes)
-    assert not mask.any() and MAX_FILL_FRAMES == 40
-    filled, mask = fill_occluded(boxes, status, max_frames=None)
+    assert not mask.any()
+    filled, mask = fill_occluded(boxes, status)
     np.testing.assert_allclose(filled, truth, atol=1e-9)
     assert mask[:, 0].sum() == 45
     assert fill_occluded(boxes, status, max_frames=45)[1].sum() == 45

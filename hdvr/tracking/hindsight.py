@@ -191,12 +191,6 @@ MIN_KEYPOINT_CONFIDENCE = 0.3
 MIN_KEYPOINTS = 5
 #: of the 17 COCO-17 joints, how many a pose must show (confidence ``MIN_KEYPOINT_CONFIDENCE``) to lower a box's top
 MIN_FULL_POSE = 15
-#: the longest occluded stretch (frames) that :func:`fill_occluded` fills: hidden for longer (1.3 s at 30 frames/s),
-#: a dancer may have turned back, and the line between where it was seen before and after is no better than the
-#: tracker's own prediction (as offline trackers cap the gaps they interpolate: StrongSORT's linear interpolation, 20
-#: frames). Session 87, on the 1,743 clips' runs: 41 -> 40 failing (3060 hip-hop 0.890 -> 0.933), 9 up / 5 down;
-#: 20 frames 41 -> 39 with 19 down; 30 39 (one of them at IDF1 0.900 exactly), 7 down; 60 41; docs/benchmarks.md
-MAX_FILL_FRAMES = 40
 #: of the 17 COCO-17 joints, how many the dancer in front must show for a couple's hidden partner to follow his box
 #: (:func:`follow_partner_in_hold`, measured on the waits alone; session 81: 12 and 13 gave 30 failing clips of
 #: 1,141, 35 without the step; 14 30 as well, with one fewer mended and one fewer broken; 15 36; no test of his pose
@@ -329,9 +323,16 @@ def interpolate_boxes(start, end, steps: int) -> np.ndarray:
 
 
 def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTER,
-                  max_frames: int | None = MAX_FILL_FRAMES) -> tuple[np.ndarray, np.ndarray]:
-    """Fill with hindsight the boxes of the stretches in which each dancer was occluded (module docstring), those of
-    at most ``max_frames`` frames (None: any length).
+                  max_frames: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Fill with hindsight the boxes of the stretches in which each dancer was occluded (module docstring), with
+    ``max_frames`` only those of at most that many frames (None, the default: any length).
+
+    Session 87 measured a cap, as offline trackers cap the gaps they interpolate (StrongSORT's linear interpolation:
+    20 frames): hidden for long, a dancer may turn back, and the line between its ends lie off it (3060 hip-hop, a
+    dancer hidden over frames 4-45: 0.890 -> 0.933 at 40). On the 1,743 hdvr synth clips' runs 40 frames gave 41 ->
+    40 failing (9 up, 5 down), 30 39 and 20 39 (19 down); but a figure that walks steadily behind others for longer
+    is best on the line, and the procedural crossing of ``scripts/make_tracking_docs.py --only procedural-vertical``
+    (seed 14, figure 3 hidden from frame 28) fell to IoU 0.24 at frame 80 with 40. Not kept.
 
     ``boxes`` (T, N, 4) px, NaN where a dancer is absent or out of the frame; ``status`` T sequences of N strings
     (``tracked``, ``occluded``, ``hidden``, ``out``, ``absent``). Returns the new boxes and a (T, N) bool mask of the
@@ -853,7 +854,7 @@ class HindsightSettings:
     follow_partner: bool = True
     partner_front_joints: int = PARTNER_FRONT_JOINTS
     partner_scale_window: int = PARTNER_SCALE_WINDOW
-    max_fill_frames: int | None = MAX_FILL_FRAMES
+    max_fill_frames: int | None = None
 
 
 def apply_hindsight(boxes: np.ndarray, status, keypoints: np.ndarray, frame_width: float | None = None,
