@@ -328,7 +328,7 @@ def fill_occluded(boxes: np.ndarray, status, min_seen_after: int = MIN_SEEN_AFTE
     ``max_frames`` only those of at most that many frames (None, the default: any length).
 
     Session 87 measured a cap, as offline trackers cap the gaps they interpolate (StrongSORT's linear interpolation:
-    20 frames): hidden for long, a dancer may turn back, and the line between its ends lie off it (3060 hip-hop, a
+    20 frames): hidden for long, a dancer may turn back, and the line between its ends then lies off it (3060 hip-hop, a
     dancer hidden over frames 4-45: 0.890 -> 0.933 at 40). On the 1,743 hdvr synth clips' runs 40 frames gave 41 ->
     40 failing (9 up, 5 down), 30 39 and 20 39 (19 down); but a figure that walks steadily behind others for longer
     is best on the line, and the procedural crossing of ``scripts/make_tracking_docs.py --only procedural-vertical``
