@@ -37,6 +37,14 @@ def _draws_limb(keypoints25: np.ndarray, strip, frame_size) -> bool:
     return mask is not None and bool(mask.any())
 
 
+def _beyond(box, front_box, run: float, side: int) -> float:
+    """How far (px) a foreground ``run`` (px) beside ``front_box`` on ``side`` (0 left, 1 right) reaches beyond
+    ``box`` on that side (negative: it ends inside it); boxes x, y, w, h px."""
+    if side == 0:
+        return box[0] - (front_box[0] - run)
+    return front_box[0] + front_box[2] + run - box[0] - box[2]
+
+
 class ReportedExtent:
     """Growth of the reported boxes beyond the tracked ones (mixin of the multi-dancer tracker)."""
 
@@ -449,16 +457,15 @@ class ReportedExtent:
         for hidden, f, (run_left, run_right), own, _ in pairs:
             if hidden is not d:
                 continue
-            fx, _, fw, fh = f.box
-            slack = c.stacked_tolerance * fh
+            slack = c.stacked_tolerance * f.box[3]
             longest = c.stacked_max_reach * d.box[3]  # a longer limb cannot be d's
             if c.front_long_run is not None:
                 longest = min(longest, c.front_long_run * d.box[3])  # ... and f takes it (:meth:`_front_reach`)
             if run_left > slack and not own[0]:
-                reach = d.box[0] - (fx - run_left)
+                reach = _beyond(d.box, f.box, run_left, 0)
                 left = max(left, reach if reach <= longest else 0.0)
             if run_right > slack and not own[1]:
-                reach = fx + fw + run_right - d.box[0] - d.box[2]
+                reach = _beyond(d.box, f.box, run_right, 1)
                 right = max(right, reach if reach <= longest else 0.0)
         return max(0.0, left), max(0.0, right)
 
@@ -491,12 +498,9 @@ class ReportedExtent:
         (longer than ``stacked_tolerance`` x ``front``'s height) reaching further beyond dancer ``hidden``'s box than
         ``front_long_run`` x its height (about its arm's length: a longer limb is not its own)."""
         c = self.config
-        fx, _, fw, fh = front.box
-        hx, _, hw, hh = hidden.box
-        if run <= c.stacked_tolerance * fh:
+        if run <= c.stacked_tolerance * front.box[3]:
             return False
-        beyond = hx - (fx - run) if side == 0 else fx + fw + run - hx - hw
-        return beyond > c.front_long_run * hh
+        return _beyond(hidden.box, front.box, run, side) > c.front_long_run * hidden.box[3]
 
     def _grabcut_reach(self, i: int, frame, fg: np.ndarray, poses, margins) -> tuple[float, float]:
         """Extent (px, left and right of its box) of dancer ``i`` in a group, from its own segment.

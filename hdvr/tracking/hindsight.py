@@ -702,12 +702,10 @@ def keep_start_place(boxes: np.ndarray, status, hidden_starts, weight: float = S
 
 
 def _carried(his: np.ndarray, his_then: np.ndarray, own_then: np.ndarray, width_ratio: float,
-             heights: np.ndarray | None = None, height_then: float | None = None) -> np.ndarray:
+             scale: np.ndarray) -> np.ndarray:
     """(F, 4) px boxes of a partner carried with the dancer in front: his boxes ``his`` (F, 4) px mapped as his box
     ``his_then`` mapped onto hers, ``own_then`` (both (4,) px): her height and her offsets from his centre and bottom
-    scaled with his height (``heights`` (F,) px and ``height_then`` px in place of his boxes' when given), her width
-    his width times ``width_ratio``."""
-    scale = (his[:, 3] if heights is None else heights) / (his_then[3] if height_then is None else height_then)
+    times ``scale`` (F,) (his height over his height then), her width his width times ``width_ratio``."""
     centre = his[:, 0] + his[:, 2] / 2 + (own_then[0] + own_then[2] / 2 - his_then[0] - his_then[2] / 2) * scale
     bottom = his[:, 1] + his[:, 3] + (own_then[1] + own_then[3] - his_then[1] - his_then[3]) * scale
     height = own_then[3] * scale
@@ -720,12 +718,11 @@ def _running_median(values: np.ndarray, half: int) -> np.ndarray:
     ``values`` itself for ``half`` 0."""
     if half <= 0:
         return values
-    out = np.full(values.shape, np.nan)
+    pad = np.full((half,) + values.shape[1:], np.nan)
+    windows = np.lib.stride_tricks.sliding_window_view(np.concatenate([pad, values, pad]), 2 * half + 1, axis=0)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # an all-NaN window stays NaN
-        for t in range(len(values)):
-            out[t] = np.nanmedian(values[max(0, t - half):t + half + 1], axis=0)
-    return out
+        return np.nanmedian(windows, axis=-1)
 
 
 def _torso_centre(keypoints: np.ndarray, min_confidence: float) -> np.ndarray:
@@ -784,7 +781,7 @@ def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: 
         waiting = _waiting_frames(boxes, status, dancer, front, first, _wait_end(status, dancer, first))
         frames = waiting[(front_seen[waiting, front] >= front_joints) & (own_seen[waiting, dancer] < own_keypoints)]
         out[frames, dancer] = _carried(boxes[frames, front], his_start, own_start, own_start[2] / his_start[2],
-                                       heights[frames, front], heights[first, front])
+                                       heights[frames, front] / heights[first, front])
         posed = waiting[own_seen[waiting, dancer] >= own_keypoints]
         centre = _torso_centre(keypoints[posed, dancer], min_confidence)
         with np.errstate(invalid="ignore"):  # his torso unseen (NaN): hers is her own
@@ -805,7 +802,7 @@ def follow_partner_in_hold(boxes: np.ndarray, status, hidden_starts, keypoints: 
                 continue
             ends = [begin - 1, end + 1] if seen(end + 1, dancer) else [begin - 1]
             carried = [_carried(boxes[frames, front], boxes[t, front], boxes[t, dancer],
-                                boxes[t, dancer, 2] / boxes[t, front, 2], heights[frames, front], heights[t, front])
+                                boxes[t, dancer, 2] / boxes[t, front, 2], heights[frames, front] / heights[t, front])
                        for t in ends]
             if len(ends) == 2:
                 weight = ((frames - (begin - 1)) / (end + 2 - begin))[:, None]
