@@ -186,3 +186,47 @@ def test_a_dancer_in_front_gets_up_from_the_floor_shape_its_box_kept_in_a_group(
         for _ in range(2):  # the detection does not cover the other dancer's centre line: it is the floor dancer's
             tracker._reshape_in_group(tracker.dancers, [(335.0, 180.0, 90.0, 210.0), other])
         assert (tracker.dancers[0].box != floor) == reshaped, other
+
+
+def test_the_dancer_in_front_of_a_group_follows_its_detection():
+    """A dancer standing in front of every dancer it overlaps (box bottom lower) is seen whole, so with
+    ``group_front_adapts`` its box follows its unambiguous detection in a group (its tracker had drifted 20 px up
+    towards the partner behind: seed 3100 tango of the session-82 clips); the rule leaves the dancer behind as it
+    was, and without it the front box stays where its tracker puts it."""
+    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    front, behind = (300.0, 130.0, 70.0, 250.0), (320.0, 100.0, 66.0, 220.0)
+    detections = [(300.0, 150.0, 70.0, 250.0), behind]  # the front dancer's detection 20 px lower than its box
+    moved = {}
+    for rule in (0.5, None):
+        tracker = MultiDancerTracker(frame, [front, behind],
+                                     MultiTrackerConfig(group_front_adapts=rule, front_of_waiting_clear=False))
+        assert [tracker._in_front_of_group(d) for d in tracker.dancers] == [True, False]
+        for _ in range(6):
+            tracker.step(frame, detections)
+        moved[rule] = [np.subtract(d.box, b) for d, b in zip(tracker.dancers, (front, behind))]
+    assert moved[0.5][0][1] > 15 and abs(moved[0.5][0][3]) < 2  # moved down, its height kept
+    assert np.abs(moved[None][0]).max() < 5
+    assert moved[0.5][1] == pytest.approx(moved[None][1])  # the rule leaves the dancer behind as it was
+
+
+def test_what_of_the_front_box_follows_its_detection():
+    """``group_front_parts``: "centre" moves the front box's centre towards its detection and keeps its size;
+    "vertical" moves only the centre's height and the box's height; an unknown mode is refused. With
+    ``group_front_match``, a box whose colours match the dancer's memory as well as its detection does stays."""
+    frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    front, behind = (300.0, 130.0, 70.0, 250.0), (320.0, 100.0, 66.0, 220.0)
+    detection = (312.0, 150.0, 60.0, 230.0)  # centre 7 px right and 10 px lower, 20 px shorter
+
+    def followed(**fields):
+        tracker = MultiDancerTracker(frame, [front, behind], MultiTrackerConfig(group_front_adapts=1.0, **fields))
+        d = tracker.dancers[0]
+        tracker._adapt_front_in_group(frame, tracker.dancers, [detection, behind])
+        return np.subtract(d.box, front)
+
+    centre, vertical = followed(group_front_parts="centre"), followed(group_front_parts="vertical")
+    assert centre[2:] == pytest.approx([0, 0]) and centre[:2] == pytest.approx([7, 10], abs=0.5)  # its size kept
+    assert vertical[0] == pytest.approx(0) and vertical[2] == pytest.approx(0)  # nothing moves sideways
+    assert vertical[3] == pytest.approx(-20, abs=0.5) and vertical[1] == pytest.approx(20, abs=0.5)  # centre +10
+    assert followed(group_front_match=0.5) == pytest.approx([0, 0, 0, 0])  # random colours: no better match
+    with pytest.raises(ValueError, match="group_front_parts"):
+        MultiTrackerConfig(group_front_parts="feet")

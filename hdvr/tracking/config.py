@@ -13,6 +13,8 @@ from hdvr.tracking.ldes import LDESConfig
 from hdvr.tracking.state import BODY_CORE_ASPECT
 
 HIDDEN_SIDES_MODES = ("off", "tracked", "written")  # ``MultiTrackerConfig.keep_hidden_sides``
+#: what of a box in front of a group follows its detection (``MultiTrackerConfig.group_front_parts``)
+GROUP_FRONT_PARTS = ("box", "centre", "vertical")
 
 
 @dataclass(frozen=True)
@@ -550,6 +552,21 @@ class MultiTrackerConfig:
     adapt_in_groups: bool = False  # boxes of overlapping dancers adapt to detections assigned unambiguously
     # (:meth:`MultiDancerTracker._adapt_in_group`). Off: on the synthetic clips of hdvr.synth it raised mean IDF1
     # on seed 7 (0.911 -> 0.926) but lowered it on held-out seeds 11 (0.939 -> 0.917) and 23 (0.989 -> 0.970)
+    group_front_adapts: float | None = None  # with ``adapt_in_groups`` off, the box of a dancer standing in front
+    # of every dancer it overlaps (box bottom ``group_front_margin`` x their height lower) follows its unambiguous
+    # detection with this weight (:meth:`MultiDancerTracker._adapt_front_in_group`): all of it is seen. None: off.
+    # Session 88, for a couple in hold whose front dancer's tracker drifts up towards the partner behind (3070 tango
+    # 0.654 -> 1.000, 3100 tango 0.637 -> 0.683): at 0.5, all 1,743 clips of sessions 80-83 tracked again, 41 -> 48
+    # failing, 13 mended and 20 broken, runs of 749 changed. Broken: a front dancer taking a detection that lies
+    # over the group behind it (3031 ballet 1.000 -> 0.700), a box too low counted as in front (2964 hip-hop), a
+    # box narrowed to a detection without the spread arms (2791 tango 1.000 -> 0.754). Not kept
+    group_front_margin: float = 0.05  # 0.15: of the 33 clips 0.05 mended or broke, 10 mended and 14 broken
+    group_front_parts: str = "box"  # what of its box follows: "box" (size and centre), "centre" (the centre),
+    # "vertical" (the centre's height in the image and the box height). Session 88, on the 114 clips of sets N and M
+    # whose runs "box" changed: 6 -> 8 failing ("centre"), 6 -> 9 ("vertical")
+    group_front_match: float | None = None  # ... only while its detection matches its stored colours this much
+    # better than its box does (its tracker drifted off it); None: whatever the colours. Session 88, on the 33
+    # clips: 0.0 mended 2 and broke 8, 0.05 mended 1 (3105 ballet) and broke 1 (3031 ballet)
     group_min_score: float = 0.55  # a detection adapts an overlapping dancer's box only if it fits it this well
     # (mean of the IoU and the IoU of the vertical extents: spread arms change the width, not the height)
     group_margin: float = 0.15  # ... and fits every other dancer by this much less
@@ -698,3 +715,6 @@ class MultiTrackerConfig:
         if self.keep_hidden_sides not in HIDDEN_SIDES_MODES:
             raise ValueError(f"keep_hidden_sides must be one of {', '.join(HIDDEN_SIDES_MODES)}, "
                              f"got {self.keep_hidden_sides!r}")
+        if self.group_front_parts not in GROUP_FRONT_PARTS:
+            raise ValueError(f"group_front_parts must be one of {', '.join(GROUP_FRONT_PARTS)}, "
+                             f"got {self.group_front_parts!r}")

@@ -38,6 +38,46 @@ class GroupAdaptation:
         y_iou = max(0.0, inter) / union if union > 0 else 0.0
         return 0.5 * (box_iou(box, det) + y_iou)
 
+    def _in_front_of_group(self, d: DancerTrack) -> bool:
+        """Whether dancer ``d`` stands in front of every dancer it overlaps (its box bottom ``group_front_margin`` x
+        their height lower; at least one)."""
+        boxes = self._boxes_now(self.dancers)
+        overlapping = self._overlapping(self.dancers.index(d), boxes)
+        margin = self.config.group_front_margin
+        return bool(overlapping) and all(stands_in_front(d.box, boxes[j], margin) for j in overlapping)
+
+    def _adapt_front_in_group(self, frame, group: list[DancerTrack], detections, weak=()) -> None:
+        """With ``group_front_adapts``: the dancers of ``group`` standing in front of every dancer they overlap
+        (:meth:`_in_front_of_group`) are seen whole; each box follows the detection assigned to it unambiguously
+        (:meth:`_unambiguous_detections`, height within ``max_height_change`` of the box's) with weight
+        ``group_front_adapts``: its size and centre, its centre only, or its centre's height and the box's height
+        (``group_front_parts``). The tracker is not restarted."""
+        c = self.config
+        front = [d for d in group if self._in_front_of_group(d)]
+        if not front or not (detections or weak):
+            return
+        assigned = self._unambiguous_detections(detections, weak)
+        for d in front:
+            det = assigned.get(d.dancer_id)
+            if det is None or not height_within(det, d.box, c.max_height_change):
+                continue
+            if c.group_front_match is not None and \
+                    self._memory_match(d, frame, det) < self._memory_match(d, frame) + c.group_front_match:
+                continue
+            if c.group_front_parts == "box":
+                self._adapt_box(d, frame, det, c.group_front_adapts, retrack=False)
+                continue
+            a, vertical = c.group_front_adapts, c.group_front_parts == "vertical"
+            centre = np.asarray(d.tracker.center, float)
+            size = np.array(d.box[2:], float)
+            if vertical:
+                size[1] = (1 - a) * size[1] + a * float(self._detected_size(d, det)[1])
+            offset = (1 - a) * d.offset + a * (box_centre(det) - centre)
+            if vertical:
+                offset[0] = d.offset[0]
+            d.offset = np.clip(offset, -c.max_box_offset * size, c.max_box_offset * size)
+            d.box = box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))
+
     def _adapt_in_group(self, frame, group: list[DancerTrack], detections, weak=()) -> None:
         """Boxes of tracked dancers that overlap others adapt to detections that can be assigned to them
         unambiguously (:meth:`_unambiguous_detections`) and whose height is within ``max_height_change`` of the

@@ -468,6 +468,8 @@ class MultiDancerTracker(DetectionAdaptation, OcclusionHandling, GroupAdaptation
                 group.append(d)
         if detections is not None and c.adapt_in_groups:
             self._adapt_in_group(frame, group, detections, weak)
+        elif detections is not None and c.group_front_adapts is not None:
+            self._adapt_front_in_group(frame, group, detections, weak)
         if detections is not None and c.group_scale:
             self._scale_groups(group, detections, weak)
         if detections is not None and c.group_reshape_after:
