@@ -211,7 +211,8 @@ def test_the_dancer_in_front_of_a_group_follows_its_detection():
 
 def test_what_of_the_front_box_follows_its_detection():
     """``group_front_parts``: "centre" moves the front box's centre towards its detection and keeps its size;
-    "vertical" moves only the centre's height and the box's height; an unknown mode is refused. With
+    "vertical" moves only the centre's height and the box's height; "height" only the height, the bottom kept; an
+    unknown mode is refused. With
     ``group_front_match``, a box whose colours match the dancer's memory as well as its detection does stays."""
     frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
     front, behind = (300.0, 130.0, 70.0, 250.0), (320.0, 100.0, 66.0, 220.0)
@@ -227,6 +228,8 @@ def test_what_of_the_front_box_follows_its_detection():
     assert centre[2:] == pytest.approx([0, 0]) and centre[:2] == pytest.approx([7, 10], abs=0.5)  # its size kept
     assert vertical[0] == pytest.approx(0) and vertical[2] == pytest.approx(0)  # nothing moves sideways
     assert vertical[3] == pytest.approx(-20, abs=0.5) and vertical[1] == pytest.approx(20, abs=0.5)  # centre +10
+    height = followed(group_front_parts="height")
+    assert height == pytest.approx([0, 20, 0, -20], abs=0.5)  # its bottom kept
     assert followed(group_front_match=0.5) == pytest.approx([0, 0, 0, 0])  # random colours: no better match
     with pytest.raises(ValueError, match="group_front_parts"):
         MultiTrackerConfig(group_front_parts="feet")

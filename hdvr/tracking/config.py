@@ -14,7 +14,7 @@ from hdvr.tracking.state import BODY_CORE_ASPECT
 
 HIDDEN_SIDES_MODES = ("off", "tracked", "written")  # ``MultiTrackerConfig.keep_hidden_sides``
 #: what of a box in front of a group follows its detection (``MultiTrackerConfig.group_front_parts``)
-GROUP_FRONT_PARTS = ("box", "centre", "vertical")
+GROUP_FRONT_PARTS = ("box", "centre", "vertical", "height")
 
 
 @dataclass(frozen=True)
@@ -562,8 +562,10 @@ class MultiTrackerConfig:
     # box narrowed to a detection without the spread arms (2791 tango 1.000 -> 0.754). Not kept
     group_front_margin: float = 0.05  # 0.15: of the 33 clips 0.05 mended or broke, 10 mended and 14 broken
     group_front_parts: str = "box"  # what of its box follows: "box" (size and centre), "centre" (the centre),
-    # "vertical" (the centre's height in the image and the box height). Session 88, on the 114 clips of sets N and M
-    # whose runs "box" changed: 6 -> 8 failing ("centre"), 6 -> 9 ("vertical")
+    # "vertical" (the centre's height in the image and the box height), "height" (the height, its bottom kept, as in
+    # front of dancers waiting behind it). Session 88, on the 114 clips of sets N and M whose runs "box" changed:
+    # 6 -> 8 failing ("centre"), 6 -> 9 ("vertical"); on the 33 clips "box" mended or broke, "height" mended 2 (3070
+    # tango, 3105 ballet) and broke 7 (2791 tango 1.000 -> 0.792, 3095 tango 0.912 -> 0.817)
     group_front_match: float | None = None  # ... only while its detection matches its stored colours this much
     # better than its box does (its tracker drifted off it); None: whatever the colours. Session 88, on the 33
     # clips: 0.0 mended 2 and broke 8, 0.05 mended 1 (3105 ballet) and broke 1 (3031 ballet)

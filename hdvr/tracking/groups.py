@@ -50,8 +50,10 @@ class GroupAdaptation:
         """With ``group_front_adapts``: the dancers of ``group`` standing in front of every dancer they overlap
         (:meth:`_in_front_of_group`) are seen whole; each box follows the detection assigned to it unambiguously
         (:meth:`_unambiguous_detections`, height within ``max_height_change`` of the box's) with weight
-        ``group_front_adapts``: its size and centre, its centre only, or its centre's height and the box's height
-        (``group_front_parts``). The tracker is not restarted."""
+        ``group_front_adapts``: its size and centre, its centre only, its centre's height and the box's height, or
+        its height with its bottom kept (``group_front_parts``); with ``group_front_match``, only while the
+        detection matches the dancer's stored colours that much better than its box does. The tracker is not
+        restarted. Off by default: measured in session 88 (docs/benchmarks.md), more clips broken than mended."""
         c = self.config
         front = [d for d in group if self._in_front_of_group(d)]
         if not front or not (detections or weak):
@@ -66,6 +68,12 @@ class GroupAdaptation:
                 continue
             if c.group_front_parts == "box":
                 self._adapt_box(d, frame, det, c.group_front_adapts, retrack=False)
+                continue
+            if c.group_front_parts == "height":  # as in front of dancers waiting behind it: its bottom kept
+                ratio = d.size_ratio[1] if d.size_ratio is not None else 1.0
+                a, (x, y, w, h) = c.group_front_adapts, d.box
+                height = (1 - a) * h + a * ratio * float(det[3])
+                d.box = (x, y + h - height, w, height)
                 continue
             a, vertical = c.group_front_adapts, c.group_front_parts == "vertical"
             centre = np.asarray(d.tracker.center, float)
