@@ -102,16 +102,17 @@ class DetectionAdaptation:
                     for other in detections)
             for o in partners)
 
-    def _adapt_height(self, d: DancerTrack, detection) -> None:
-        """The height of dancer ``d``'s box moves ``box_adaptation`` of the way towards that of ``detection`` (times
+    def _adapt_height(self, d: DancerTrack, detection, weight: float | None = None) -> None:
+        """The height of dancer ``d``'s box moves ``weight`` (default ``box_adaptation``) of the way towards that of
+        ``detection`` (times
         the dancer's learned height ratio of box to detection, ``size_ratio``); the box keeps its bottom (the feet)
         and width (the detection's width holds an arm out towards a partner). The bottom is kept in this frame only:
         the box's offset from the tracker's centre is left as it was, so from the next frame on the box lies about
         the tracker's centre again and half of the height change shows at its bottom. Keeping the bottom through
         the offset was measured in session 69 and not kept (docs/benchmarks.md "session 69")."""
-        c = self.config
+        a = self.config.box_adaptation if weight is None else weight
         ratio = d.size_ratio[1] if d.size_ratio is not None else 1.0
-        height = (1 - c.box_adaptation) * d.box[3] + c.box_adaptation * ratio * float(detection[3])
+        height = (1 - a) * d.box[3] + a * ratio * float(detection[3])
         x, y, w, h = d.box
         d.box = (x, y + h - height, w, height)
 

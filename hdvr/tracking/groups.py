@@ -4,7 +4,9 @@ While dancers overlap, no detection can be trusted to be one dancer alone. :clas
 frame's person detections to all dancers at once (one assignment on :meth:`GroupAdaptation._fit_score`) and lets a
 dancer take only the detection it fits unambiguously; the boxes of a group of overlapping dancers scale together
 when their detections grow or shrink alike (a couple walking towards or away from the camera), and change their
-shape only on a detection that is clearly theirs.
+shape only on a detection that is clearly theirs. With ``group_front_adapts`` (off by default: measured in session
+88, it broke more clips than it mended) the box of a dancer in front of every dancer it overlaps follows its
+detection.
 
 :class:`GroupAdaptation` is a mixin of :class:`hdvr.tracking.multi.MultiDancerTracker`: it reads the tracker's
 ``config`` (:class:`hdvr.tracking.config.MultiTrackerConfig`, the ``group_*`` fields), ``dancers``
@@ -68,23 +70,26 @@ class GroupAdaptation:
                 continue
             if c.group_front_parts == "box":
                 self._adapt_box(d, frame, det, c.group_front_adapts, retrack=False)
-                continue
-            if c.group_front_parts == "height":  # as in front of dancers waiting behind it: its bottom kept
-                ratio = d.size_ratio[1] if d.size_ratio is not None else 1.0
-                a, (x, y, w, h) = c.group_front_adapts, d.box
-                height = (1 - a) * h + a * ratio * float(det[3])
-                d.box = (x, y + h - height, w, height)
-                continue
-            a, vertical = c.group_front_adapts, c.group_front_parts == "vertical"
-            centre = np.asarray(d.tracker.center, float)
-            size = np.array(d.box[2:], float)
-            if vertical:
-                size[1] = (1 - a) * size[1] + a * float(self._detected_size(d, det)[1])
-            offset = (1 - a) * d.offset + a * (box_centre(det) - centre)
-            if vertical:
-                offset[0] = d.offset[0]
-            d.offset = np.clip(offset, -c.max_box_offset * size, c.max_box_offset * size)
-            d.box = box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))
+            elif c.group_front_parts == "height":  # as in front of dancers waiting behind it: its bottom kept
+                self._adapt_height(d, det, c.group_front_adapts)
+            else:
+                self._follow_centre(d, det, c.group_front_adapts, vertical=c.group_front_parts == "vertical")
+
+    def _follow_centre(self, d: DancerTrack, detection, weight: float, vertical: bool) -> None:
+        """The centre of dancer ``d``'s box moves ``weight`` of the way towards that of ``detection`` (x, y, w, h
+        px) through its offset from the tracker's centre (at most ``max_box_offset`` x the box size), its size kept;
+        ``vertical``: only the centre's height, and the box's height moves as far towards the detection's (times
+        the dancer's learned ratio, :meth:`_detected_size`)."""
+        c = self.config
+        centre = np.asarray(d.tracker.center, float)
+        size = np.array(d.box[2:], float)
+        if vertical:
+            size[1] = (1 - weight) * size[1] + weight * float(self._detected_size(d, detection)[1])
+        offset = (1 - weight) * d.offset + weight * (box_centre(detection) - centre)
+        if vertical:
+            offset[0] = d.offset[0]
+        d.offset = np.clip(offset, -c.max_box_offset * size, c.max_box_offset * size)
+        d.box = box_at(centre + d.offset, (0.0, 0.0, float(size[0]), float(size[1])))
 
     def _adapt_in_group(self, frame, group: list[DancerTrack], detections, weak=()) -> None:
         """Boxes of tracked dancers that overlap others adapt to detections that can be assigned to them
