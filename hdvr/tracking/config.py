@@ -566,6 +566,9 @@ class MultiTrackerConfig:
     # front of dancers waiting behind it). Session 88, on the 114 clips of sets N and M whose runs "box" changed:
     # 6 -> 8 failing ("centre"), 6 -> 9 ("vertical"); on the 33 clips "box" mended or broke, "height" mended 2 (3070
     # tango, 3105 ballet) and broke 7 (2791 tango 1.000 -> 0.792, 3095 tango 0.912 -> 0.817)
+    group_front_after: int = 0  # ... only from this many frames after the box was last placed for sure (clear of
+    # the others, started or re-identified: ``stored_frame``); its tracker, learning nothing in the group, drifts
+    # with time. Session 88, on the 33 clips: 30 mended 7 and broke 10 (3070 tango no longer mended), 60 mended none
     group_front_match: float | None = None  # ... only while its detection matches its stored colours this much
     # better than its box does (its tracker drifted off it); None: whatever the colours. Session 88, on the 33
     # clips: 0.0 mended 2 and broke 8, 0.05 mended 1 (3105 ballet) and broke 1 (3031 ballet)
