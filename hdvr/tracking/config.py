@@ -569,6 +569,9 @@ class MultiTrackerConfig:
     group_front_after: int = 0  # ... only from this many frames after the box was last placed for sure (clear of
     # the others, started or re-identified: ``stored_frame``); its tracker, learning nothing in the group, drifts
     # with time. Session 88, on the 33 clips: 30 mended 7 and broke 10 (3070 tango no longer mended), 60 mended none
+    group_front_aspect: float | None = None  # ... not to a detection narrower for its height than this x the box
+    # (it may leave out spread arms the box holds); None: whatever its shape. Session 88, on the 33 clips: 0.9
+    # mended 8 and broke 15 (2791 tango no longer broken, 3070 tango no longer mended)
     group_front_match: float | None = None  # ... only while its detection matches its stored colours this much
     # better than its box does (its tracker drifted off it); None: whatever the colours. Session 88, on the 33
     # clips: 0.0 mended 2 and broke 8, 0.05 mended 1 (3105 ballet) and broke 1 (3031 ballet)

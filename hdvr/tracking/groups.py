@@ -55,7 +55,8 @@ class GroupAdaptation:
         ``group_front_adapts``: its size and centre, its centre only, its centre's height and the box's height, or
         its height with its bottom kept (``group_front_parts``); with ``group_front_match``, only while the
         detection matches the dancer's stored colours that much better than its box does; with
-        ``group_front_after``, only that many frames after the box was last placed for sure. The tracker is not
+        ``group_front_after``, only that many frames after the box was last placed for sure; with
+        ``group_front_aspect``, not to a detection that much narrower for its height than the box. The tracker is not
         restarted. Off by default: measured in session 88 (docs/benchmarks.md), more clips broken than mended."""
         c = self.config
         front = [d for d in group if self._in_front_of_group(d)]
@@ -66,6 +67,8 @@ class GroupAdaptation:
             det = assigned.get(d.dancer_id)
             if det is None or not height_within(det, d.box, c.max_height_change) or \
                     self.frame_index - d.stored_frame < c.group_front_after:
+                continue
+            if c.group_front_aspect is not None and det[2] / det[3] < c.group_front_aspect * d.box[2] / d.box[3]:
                 continue
             if c.group_front_match is not None and \
                     self._memory_match(d, frame, det) < self._memory_match(d, frame) + c.group_front_match:
