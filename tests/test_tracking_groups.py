@@ -214,7 +214,8 @@ def test_what_of_the_front_box_follows_its_detection():
     "vertical" moves only the centre's height and the box's height; "height" only the height, the bottom kept; an
     unknown mode is refused. With ``group_front_match``, a box whose colours match the dancer's memory as well as
     its detection does stays; with ``group_front_after``, so does a box placed for sure fewer frames ago; with
-    ``group_front_aspect``, so does one whose detection is narrower for its height."""
+    ``group_front_aspect``, so does one whose detection is narrower for its height; with ``group_front_max_iou``,
+    one that overlaps its detection that much."""
     frame = np.random.default_rng(0).integers(0, 255, (480, 640, 3), dtype=np.uint8)
     front, behind = (300.0, 130.0, 70.0, 250.0), (320.0, 100.0, 66.0, 220.0)
     detection = (312.0, 150.0, 60.0, 230.0)  # centre 7 px right and 10 px lower, 20 px shorter
@@ -236,5 +237,7 @@ def test_what_of_the_front_box_follows_its_detection():
     assert np.abs(followed(group_front_after=0)).max() > 5  # size and centre ("box", the default)
     assert followed(group_front_aspect=1.0) == pytest.approx([0, 0, 0, 0])  # 0.26 wide for its height, the box 0.28
     assert np.abs(followed(group_front_aspect=0.9)).max() > 5
+    assert followed(group_front_max_iou=0.7) == pytest.approx([0, 0, 0, 0])  # IoU 0.74: a little off only
+    assert np.abs(followed(group_front_max_iou=0.8)).max() > 5
     with pytest.raises(ValueError, match="group_front_parts"):
         MultiTrackerConfig(group_front_parts="feet")

@@ -572,6 +572,9 @@ class MultiTrackerConfig:
     group_front_aspect: float | None = None  # ... not to a detection narrower for its height than this x the box
     # (it may leave out spread arms the box holds); None: whatever its shape. Session 88, on the 33 clips: 0.9
     # mended 8 and broke 15 (2791 tango no longer broken, 3070 tango no longer mended)
+    group_front_max_iou: float | None = None  # ... only to a detection overlapping the box less than this (IoU): a
+    # box off its dancer, not one a little off its detection; None: any. Session 88, on the 33 clips: 0.7 mended 6
+    # (3070 tango among them) and broke 12
     group_front_match: float | None = None  # ... only while its detection matches its stored colours this much
     # better than its box does (its tracker drifted off it); None: whatever the colours. Session 88, on the 33
     # clips: 0.0 mended 2 and broke 8, 0.05 mended 1 (3105 ballet) and broke 1 (3031 ballet)

@@ -56,7 +56,8 @@ class GroupAdaptation:
         its height with its bottom kept (``group_front_parts``); with ``group_front_match``, only while the
         detection matches the dancer's stored colours that much better than its box does; with
         ``group_front_after``, only that many frames after the box was last placed for sure; with
-        ``group_front_aspect``, not to a detection that much narrower for its height than the box. The tracker is not
+        ``group_front_aspect``, not to a detection that much narrower for its height than the box; with
+        ``group_front_max_iou``, only to a detection overlapping the box less than that. The tracker is not
         restarted. Off by default: measured in session 88 (docs/benchmarks.md), more clips broken than mended."""
         c = self.config
         front = [d for d in group if self._in_front_of_group(d)]
@@ -69,6 +70,8 @@ class GroupAdaptation:
                     self.frame_index - d.stored_frame < c.group_front_after:
                 continue
             if c.group_front_aspect is not None and det[2] / det[3] < c.group_front_aspect * d.box[2] / d.box[3]:
+                continue
+            if c.group_front_max_iou is not None and box_iou(d.box, det) >= c.group_front_max_iou:
                 continue
             if c.group_front_match is not None and \
                     self._memory_match(d, frame, det) < self._memory_match(d, frame) + c.group_front_match:
