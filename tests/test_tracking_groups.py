@@ -200,7 +200,8 @@ def test_the_dancer_in_front_of_a_group_follows_its_detection():
     for rule in (0.5, None):
         tracker = MultiDancerTracker(frame, [front, behind],
                                      MultiTrackerConfig(group_front_adapts=rule, front_of_waiting_clear=False))
-        assert [tracker._in_front_of_group(d) for d in tracker.dancers] == [True, False]
+        boxes = tracker._boxes_now(tracker.dancers)
+        assert [tracker._in_front_of_group(d, boxes) for d in tracker.dancers] == [True, False]
         for _ in range(6):
             tracker.step(frame, detections)
         moved[rule] = [np.subtract(d.box, b) for d, b in zip(tracker.dancers, (front, behind))]

@@ -40,10 +40,9 @@ class GroupAdaptation:
         y_iou = max(0.0, inter) / union if union > 0 else 0.0
         return 0.5 * (box_iou(box, det) + y_iou)
 
-    def _in_front_of_group(self, d: DancerTrack) -> bool:
+    def _in_front_of_group(self, d: DancerTrack, boxes) -> bool:
         """Whether dancer ``d`` stands in front of every dancer it overlaps (its box bottom ``group_front_margin`` x
-        their height lower; at least one)."""
-        boxes = self._boxes_now(self.dancers)
+        their height lower; at least one); ``boxes``: every dancer's box now (:meth:`_boxes_now`)."""
         overlapping = self._overlapping(self.dancers.index(d), boxes)
         margin = self.config.group_front_margin
         return bool(overlapping) and all(stands_in_front(d.box, boxes[j], margin) for j in overlapping)
@@ -60,7 +59,8 @@ class GroupAdaptation:
         ``group_front_max_iou``, only to a detection overlapping the box less than that. The tracker is not
         restarted. Off by default: measured in session 88 (docs/benchmarks.md), more clips broken than mended."""
         c = self.config
-        front = [d for d in group if self._in_front_of_group(d)]
+        boxes = self._boxes_now(self.dancers)
+        front = [d for d in group if self._in_front_of_group(d, boxes)]
         if not front or not (detections or weak):
             return
         assigned = self._unambiguous_detections(detections, weak)
