@@ -297,7 +297,8 @@ def save(args) -> int:
         order, starts = _starts_from_truth(truth_boxes)
         cached = args.detections / f"{seed}_{index}" if args.detections else None  # outputs and detections
         run = track_synth_clip(clip, cached or args.runs / "work", detector, starts, config, hindsight=False,
-                               write=cached is not None, zoom=not args.no_zoom)
+                               write=cached is not None, zoom=not args.no_zoom,
+                               zoom_group=args.zoom_group)
         save_run(args.runs / f"{seed}_{index}.npz", run, order)
         done += 1
         print(f"\r{done}/{total} clips tracked", end="", file=sys.stderr, flush=True)
@@ -409,6 +410,8 @@ def main(argv=None) -> int:
                                                     "later saves")
     sv.add_argument("--no-zoom", action="store_true", help="no detector crops about waiting or unposed dancers "
                                                            "(hdvr track --no-zoom)")
+    sv.add_argument("--zoom-group", action="store_true", help="the detector also on a crop about the group of "
+                                                              "dancers (hdvr track --zoom-group; session 89)")
     sv.set_defaults(func=save)
     sc = sub.add_parser("score", help="score hindsight settings on kept runs")
     sc.add_argument("--clips-dir", type=Path, required=True)

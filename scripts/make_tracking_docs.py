@@ -144,6 +144,12 @@ PARTNER = (
 UNPOSED = (
     (2685, 4, "hip_hop", 4, 63, "tracking_zoom_unposed_s2685_hip_hop_063.jpg"),
 )
+#: (seed, clip index, genre, dancers, frame, picture name): a dancer the whole frame's detection misses beside the
+#: others, found on the crop about the group (``zoom_group``; session 89): seed 2721 hip-hop, the small dancer lost
+#: without it from frame 18 on
+GROUP_ZOOM = (
+    (2721, 4, "hip_hop", 4, 30, "tracking_zoom_group_s2721_hip_hop_030.jpg"),
+)
 #: (seed, clip index, genre, dancers, picture name): a clip one correction mends
 CORRECTION = (
     (1412, 2, "hip_hop", 3, "tracking_correction_s1412_hip_hop.jpg"),
@@ -327,7 +333,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", type=Path, default=Path("docs/img"))
     parser.add_argument("--only", choices=("limits", "before-after", "hindsight", "keypoints", "head", "start-offset",
-                                           "amodal", "depth", "partner", "unposed", "correction", "timeline",
+                                           "amodal", "depth", "partner", "unposed", "group-zoom", "correction",
+                                           "timeline",
                                            "evaluation",
                                            "procedural-hold", "procedural-trim", "procedural-lost",
                                            "procedural-vertical", "procedural-vertical-cap"),
@@ -337,7 +344,8 @@ def main(argv=None) -> int:
                              "the ones of a hidden dancer moved towards her start offset, the one of the learned "
                              "whole-body (amodal) boxes, the one of a waiting dancer scaled with her feet, the one "
                              "of a couple's hidden partner carried with the dancer in front, the one "
-                             "of a dancer's pose found zoomed in, the one of a "
+                             "of a dancer's pose found zoomed in, the one of a dancer found on the crop about the "
+                             "group, the one of a "
                              "correction, or "
                              "the timeline and the frame with a pixel grid (hdvr frame) of the corrected clip, or the "
                              "picture of hdvr evaluate tracks --plot, or the procedural crossing held and not held, or "
@@ -418,6 +426,16 @@ def main(argv=None) -> int:
                             ("no zoom for dancers in view", "pose found zoomed in (as written)"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the zoom about dancers "
                   f"in view without a detection", file=sys.stderr)
+        for seed, index, genre, n, frame_index, name in GROUP_ZOOM if args.only in (None, "group-zoom") else ():
+            gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
+            tracked = [track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3,
+                                   overlay=False, write=False, zoom_group=zoom).boxes[:, np.argsort(order)]
+                       for zoom in (False, True)]
+            path = args.out / name
+            _write_two_runs(path, video, detector, frame_index, gt, tracked,
+                            ("no crop about the group", "crop about the group (default)"))
+            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the crop about the "
+                  f"group", file=sys.stderr)
         for seed, index, genre, n, name in CORRECTION if args.only in (None, "correction") else ():
             frame_index, (t, dancer) = _write_correction(args.out / name, tmp, detector, seed, index, genre, n)
             print(f"wrote {args.out / name}: seed {seed} {genre}, frame {frame_index}, without and with a correction "

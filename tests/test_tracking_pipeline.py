@@ -928,3 +928,106 @@ def test_the_detector_also_runs_on_the_last_frame_so_the_last_frames_get_keypoin
                         overlay=False, write=False, max_frames=44)
     assert np.flatnonzero(short.detected).tolist() == list(range(0, 44, 3)) + [43]
     assert (short.keypoints[..., 2] > 0).any(axis=-1).all()
+
+
+def test_group_crop_is_the_union_of_the_boxes_with_a_margin_and_only_when_it_magnifies():
+    """The crop about a group spans the union of the dancers' boxes, widened by the margin on each side and clipped
+    to the frame; a crop wider or taller than the allowed fraction of the frame (nothing gained), or no box, gives
+    None."""
+    from hdvr.tracking.pipeline import group_crop
+
+    boxes = [(200.0, 150.0, 40.0, 100.0), (250.0, 160.0, 60.0, 120.0), (np.nan, np.nan, np.nan, np.nan)]
+    # union x 200-310, y 150-280: 110 x 130, margin 0.15 -> 16.5 and 19.5 px
+    assert group_crop(boxes, (640, 480)) == (183, 130, 326, 299)
+    assert group_crop([(0.0, 0.0, 60.0, 100.0)], (640, 480), margin=0.5) == (0, 0, 90, 150)  # clipped at 0
+    assert group_crop([(20.0, 100.0, 40.0, 100.0), (560.0, 100.0, 40.0, 100.0)], (640, 480)) is None  # too wide
+    assert group_crop(boxes[:2], (640, 480), max_fraction=0.2) is None
+    assert group_crop([], (640, 480)) is None
+
+
+def test_group_zoom_detections_adds_the_people_the_whole_frame_missed_in_frame_pixels():
+    """What the detector finds in the crop about a group comes back in frame pixels (box and keypoints), a find the
+    detector calls weak still weak; a person the whole frame already found (IoU > 0.5) and one cut by a side of the
+    crop inside the frame are left out."""
+    from hdvr.pose2d.base import PersonPose
+    from hdvr.tracking.pipeline import group_zoom_detections
+
+    class GroupCropDetector:
+        def __init__(self):
+            self.shapes = []
+
+        def detect(self, frame_bgr, frame_index):
+            self.shapes.append(frame_bgr.shape[:2])
+            kp = np.full((17, 3), 0.9, np.float32)
+            kp[:, :2] = (30.0, 60.0)
+            return [PersonPose(kp.copy(), (10.0, 20.0, 40.0, 100.0), 0.8),  # frame (110, 70, 40, 100)
+                    PersonPose(kp.copy(), (60.0, 25.0, 38.0, 98.0), 0.4, weak=True),  # frame (160, 75, 38, 98)
+                    PersonPose(kp.copy(), (120.0, 20.0, 40.0, 100.0), 0.8),  # whole-frame person holds it
+                    PersonPose(kp.copy(), (0.0, 10.0, 30.0, 90.0), 0.7)]  # cut by the crop's left side
+
+    frame = np.zeros((480, 640, 3), np.uint8)
+    held = PersonPose(np.zeros((17, 3), np.float32), (221.0, 71.0, 40.0, 100.0), 0.9)
+    detector = GroupCropDetector()
+    found = group_zoom_detections(detector, frame, 6, (100, 50, 300, 250), [held])
+    assert detector.shapes == [(200, 200)]
+    assert [p.box for p in found] == [(110.0, 70.0, 40.0, 100.0), (160.0, 75.0, 38.0, 98.0)]
+    assert [p.weak for p in found] == [False, True]
+    np.testing.assert_allclose(found[0].keypoints[0, :2], (130.0, 110.0))
+
+
+def test_in_a_group_when_boxes_overlap_or_a_dancer_is_occluded_or_waits():
+    """The group is looked at again zoomed in while two dancers' boxes overlap, or one is occluded or waits hidden
+    behind another; dancers out of the frame do not count."""
+    from types import SimpleNamespace
+
+    from hdvr.tracking.pipeline import in_a_group
+
+    def dancer(box, status="tracked", hidden_behind=None):
+        return SimpleNamespace(box=box, status=status, hidden_behind=hidden_behind)
+
+    apart = [dancer((100.0, 100.0, 40.0, 120.0)), dancer((300.0, 100.0, 40.0, 120.0))]
+    assert not in_a_group(apart)
+    assert in_a_group(apart + [dancer((320.0, 110.0, 40.0, 120.0))])
+    assert not in_a_group(apart + [dancer((320.0, 110.0, 40.0, 120.0), status="out")])
+    assert in_a_group([apart[0], dancer((300.0, 100.0, 40.0, 120.0), status="occluded")])
+    assert in_a_group([apart[0], dancer((300.0, 100.0, 40.0, 120.0), hidden_behind=0)])
+
+
+def test_the_detector_looks_again_at_the_group_only_while_dancers_overlap(tmp_path):
+    """With ``zoom_group`` the detector runs again on a crop about the dancers on the detector frames on which their
+    boxes overlap (two figures 130 px tall cross), never on the others; without it, never."""
+    from hdvr.tracking.pipeline import track_video
+
+    path = tmp_path / "cross.mp4"
+    specs = [FigureSpec((220.0, 240.0), (3.0, 0.0), 130.0, ((40, 40, 210), (40, 200, 230)), depth=0.0),
+             FigureSpec((420.0, 245.0), (-3.0, 0.0), 125.0, ((200, 60, 40), (230, 200, 40)), depth=1.0)]
+    truth = render_clip(path, frames=60, size=(640, 480), specs=specs)
+
+    class TruthDetector:
+        """Finds the figures' true boxes in the whole frame; counts the crops it is asked about."""
+        name = "fake"
+
+        def __init__(self):
+            self.crops = []
+
+        def detect(self, frame_bgr, t):
+            from hdvr.pose2d.base import PersonPose
+            if frame_bgr.shape[:2] != (480, 640):
+                self.crops.append(t)
+                return []
+            return [PersonPose(np.full((17, 3), 0.9, np.float32), tuple(float(v) for v in b), 0.9)
+                    for b in truth.boxes[t]]
+
+    overlapping = {t for t in range(60) if iou_matrix(truth.boxes[t, :1], truth.boxes[t, 1:])[0, 0] > 0}
+    crops = {}
+    for zoom in (True, False):
+        detector = TruthDetector()
+        track_video(path, tmp_path / f"out{zoom}", detector=detector, boxes=truth.boxes[0], overlay=False,
+                    write=False, detect_every=3, zoom_hidden=False, zoom_unposed=False, zoom_group=zoom,
+                    hindsight=False)
+        crops[zoom] = detector.crops
+    assert crops[False] == []
+    assert crops[True] and all(t % 3 == 0 for t in crops[True])
+    assert set(crops[True]) & overlapping  # asked while they cross
+    assert set(crops[True]) <= overlapping | {t + 3 for t in overlapping}, (crops[True], overlapping)
+    assert len(crops[True]) < 15, crops[True]  # of 20 detector frames

@@ -38,6 +38,10 @@ def register(subparsers) -> None:
                    help="do not run the detector again on a crop about a dancer that waits hidden behind another, "
                         "nor about a dancer in view that the whole frame's detection missed (faster; see "
                         "docs/tracking.md)")
+    p.add_argument("--zoom-group", action="store_true",
+                   help="on detector frames where dancers overlap, also run the detector on a crop about the group "
+                        "(finds dancers the whole frame misses, but also parts of dancers; off by default: see "
+                        "docs/tracking.md)")
     p.add_argument("--zoom-size", type=int, default=None, metavar="PX",
                    help="ONNX detectors: longer side of the detector input on those crops in pixels (default 320; "
                         "a crop shows one dancer large already; see docs/tracking.md)")
@@ -151,7 +155,7 @@ def run(args: argparse.Namespace) -> int:
     zoom_size = {} if args.zoom_size is None else {"zoom_input_size": args.zoom_size}
     result = track_video(args.video, args.out, detector=detector, detect_every=args.detect_every,
                          overlay=not args.no_overlay, max_frames=args.max_frames, zoom_hidden=not args.no_zoom,
-                         zoom_unposed=not args.no_zoom, **zoom_size,
+                         zoom_unposed=not args.no_zoom, zoom_group=args.zoom_group and not args.no_zoom, **zoom_size,
                          hindsight=not args.no_hindsight, amodal_boxes=not args.no_amodal_boxes,
                          amodal_weights=args.amodal_weights, follow_partner=not args.no_follow_partner,
                          timeline=not args.no_timeline,

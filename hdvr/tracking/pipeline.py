@@ -307,6 +307,70 @@ def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int,
     return found
 
 
+#: margin (x the group's width and height) added on each side of the union of the dancers' boxes to make the crop
+#: about a group (:func:`group_zoom_detections`)
+GROUP_ZOOM_MARGIN = 0.15
+#: the crop about a group is searched only when it is at most this fraction of the frame's width and of its height:
+#: a larger one would show the dancers hardly larger than the whole frame does
+GROUP_ZOOM_MAX_FRACTION = 0.8
+
+
+def group_crop(boxes, frame_size: tuple[int, int], margin: float = GROUP_ZOOM_MARGIN,
+               max_fraction: float = GROUP_ZOOM_MAX_FRACTION) -> tuple[int, int, int, int] | None:
+    """The crop (x0, y0, x1, y1 px, clipped to the frame of ``frame_size`` (width, height)) about the union of
+    ``boxes`` ((x, y, w, h) px), widened by ``margin`` x its width and height on each side; None when there are no
+    boxes or the crop is larger than ``max_fraction`` of the frame's width or height."""
+    boxes = np.asarray([b for b in boxes if np.isfinite(b).all()], float).reshape(-1, 4)
+    if not len(boxes):
+        return None
+    width, height = frame_size
+    x0, y0 = boxes[:, 0].min(), boxes[:, 1].min()
+    x1, y1 = (boxes[:, 0] + boxes[:, 2]).max(), (boxes[:, 1] + boxes[:, 3]).max()
+    mx, my = margin * (x1 - x0), margin * (y1 - y0)
+    x0, y0 = int(max(0.0, x0 - mx)), int(max(0.0, y0 - my))
+    x1, y1 = int(min(width, x1 + mx)), int(min(height, y1 + my))
+    if x1 - x0 < 32 or y1 - y0 < 32 or x1 - x0 > max_fraction * width or y1 - y0 > max_fraction * height:
+        return None
+    return x0, y0, x1, y1
+
+
+def group_zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int, crop, people: list) -> list:
+    """People found by running ``detector`` again on the crop ``crop`` (x0, y0, x1, y1 px, :func:`group_crop`) of
+    ``frame`` about a group of dancers, in frame pixels: at the detector's input size the dancers are larger there
+    than in the whole frame, and the detector finds some it missed (a small dancer beside a tall one, a dancer half
+    behind another; hdvr synth clips of 3-4 dancers, session 89: of 722 dancer-frames at least half visible, the
+    whole frame at 480 px found 507, whole frame and crop together 607). Left out: a person that one of ``people``
+    (the whole frame's) already covers (IoU > 0.5), and one cut by a side of the crop that is not the frame's (a
+    part of someone). A find the detector calls weak stays weak (:class:`PersonPose` ``weak``)."""
+    height, width = frame.shape[:2]
+    x0, y0, x1, y1 = crop
+    found: list = []
+    for p in detector.detect(np.ascontiguousarray(frame[y0:y1, x0:x1]), frame_index):
+        bx, by, bw, bh = p.box
+        cut = ((bx <= 2 and x0 > 0) or (by <= 2 and y0 > 0) or (bx + bw >= x1 - x0 - 2 and x1 < width)
+               or (by + bh >= y1 - y0 - 2 and y1 < height))
+        box = (bx + x0, by + y0, bw, bh)
+        if cut or any(box_iou(box, q.box) > 0.5 for q in list(people) + found):
+            continue
+        kp = np.array(p.keypoints, np.float32, copy=True)
+        kp[:, 0] += x0
+        kp[:, 1] += y0
+        found.append(PersonPose(kp, box, p.score, p.joint_names, weak=p.weak))
+    return found
+
+
+def in_a_group(dancers, overlap_threshold: float = 0.0) -> bool:
+    """Whether any two of ``dancers`` (:class:`hdvr.tracking.state.DancerTrack`, not out of the frame) have boxes
+    that overlap (intersection over the smaller box above ``overlap_threshold``), or any is occluded or waits
+    hidden behind another: the frames on which the detector is asked again about the group
+    (``track_video(zoom_group=True)``)."""
+    present = [d for d in dancers if d.status != OUT]
+    if any(d.status == OCCLUDED or d.hidden_behind is not None for d in present):
+        return True
+    return any(box_overlap(a.box, b.box) > overlap_threshold
+               for i, a in enumerate(present) for b in present[i + 1:])
+
+
 #: side of the square crop (x the box height) about a dancer seen that no whole-frame person lies on, in which the
 #: detector looks for its pose again (:func:`unposed_dancers`; session 53 measured 1.5, 2.0 and 2.5: docs/benchmarks.md)
 UNPOSED_ZOOM_SIDE = 2.0
@@ -336,7 +400,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 boxes=None, num_dancers: int | None = None, detect_every: int = 1, overlay: bool = True,
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
-                zoom_hidden: bool = True, zoom_unposed: bool = True,
+                zoom_hidden: bool = True, zoom_unposed: bool = True, zoom_group: bool = False,
                 zoom_input_size: int | None = ZOOM_INPUT_SIZE,
                 hindsight: bool = True, amodal_boxes: bool = True,
                 amodal_weights: str | os.PathLike | None = None, follow_partner: bool = True,
@@ -356,14 +420,20 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     seen that no whole-frame person lies on (:func:`unposed_dancers`) is looked for again on a crop about its box
     (``UNPOSED_ZOOM_SIDE`` x its height), and what is found there is offered to Algorithm 2* with the frame's people
     (its pose only: the tracker does not adapt its box to these finds); a dancer whose crop gave it no pose is not
-    looked for so again on the next ``UNPOSED_RETRY_AFTER`` detector frames. ``zoom_input_size``: the detector's
-    input size (px) on those crops, where it can change it (``at_input_size``; None: its own). ``hindsight``: once
-    all frames are tracked, fill the boxes of each stretch in which a dancer was occluded between where it was seen
-    before and after (:func:`hdvr.tracking.hindsight.fill_occluded`; a stretch not seen after it holds the box
-    where the dancer was last seen, :func:`hdvr.tracking.hindsight.hold_last_seen`, unless the tracker stopped it
-    behind the dancers in front: ``TrackRun.stopped_behind``), widen each box to enclose its
-    dancer's keypoints (:func:`hdvr.tracking.hindsight.enclose_keypoints`), lower the top of a box that reaches far
-    above a full pose (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
+    looked for so again on the next ``UNPOSED_RETRY_AFTER`` detector frames. ``zoom_group`` (off by default; session
+    89 measured it: docs/benchmarks.md "Session 89"): on detector frames on
+    which dancers' boxes overlap, or a dancer is occluded or waits hidden (:func:`in_a_group`), the detector also
+    runs, at its own input size, on a crop about the union of the dancers' boxes (:func:`group_crop`, when that is at
+    most ``GROUP_ZOOM_MAX_FRACTION`` of the frame), and the people it finds there that the whole frame missed join
+    the frame's (:func:`group_zoom_detections`): the tracker uses them as any others. ``zoom_input_size``: the
+    detector's input size (px) on the crops about single dancers, where it can change it (``at_input_size``; None:
+    its own). ``hindsight``: once all frames are tracked, fill the boxes of each stretch in which a dancer was
+    occluded between where it was seen before and after (:func:`hdvr.tracking.hindsight.fill_occluded`; a
+    stretch not seen after it holds the box where the dancer was last seen,
+    :func:`hdvr.tracking.hindsight.hold_last_seen`, unless the tracker stopped it behind the dancers in front:
+    ``TrackRun.stopped_behind``), widen each box to enclose its dancer's keypoints
+    (:func:`hdvr.tracking.hindsight.enclose_keypoints`), lower the top of a box that reaches far above a full pose
+    (:func:`hdvr.tracking.hindsight.trim_above_pose`) and smooth the boxes over time
     (:func:`hdvr.tracking.hindsight.smooth_boxes`), all in :func:`hdvr.tracking.hindsight.apply_hindsight`; off, the
     boxes are those of the online tracker. ``amodal_boxes`` (with ``hindsight``): last, move each seen dancer's box
     to the whole body that the learned refiner predicts (:func:`hdvr.tracking.amodal.refine_boxes`), with the
@@ -452,6 +522,10 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             if run_detector:
                 tic = time.perf_counter()
                 people = detector.detect(frame, t)
+                if zoom_group and tracker is not None and len(tracker.dancers) > 1 and in_a_group(tracker.dancers):
+                    crop = group_crop([d.box for d in tracker.dancers if d.status != OUT], info.size)
+                    if crop is not None:
+                        people = people + group_zoom_detections(detector, frame, t, crop, people)
                 weak = [p for p in people if p.weak]  # only for updating dancers followed (see MultiTrackerConfig)
                 people = [p for p in people if not p.weak]
                 if zoom_hidden and tracker is not None:
