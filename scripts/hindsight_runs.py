@@ -9,7 +9,7 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
 
     # track each clip once (YOLO11n-pose at 480 px every 3rd frame, as the benchmark), hindsight off
     python3 scripts/hindsight_runs.py save --clips-dir CLIPS --seeds 201,202 --runs RUNS \\
-        [--detections DETS] [--tracker-config NAME=VALUE,...]
+        [--detections DETS] [--tracker-config NAME=VALUE,...] [--zoom-group]
     # or only some clips again, by their runs' names
     python3 scripts/hindsight_runs.py save --clips-dir CLIPS --keys 2624_2,2507_3 --runs RUNS --detections DETS
     # or only those where a dancer starts hidden (in an earlier score file; a rule for such dancers changes no other)

@@ -1031,3 +1031,23 @@ def test_the_detector_looks_again_at_the_group_only_while_dancers_overlap(tmp_pa
     assert set(crops[True]) & overlapping  # asked while they cross
     assert set(crops[True]) <= overlapping | {t + 3 for t in overlapping}, (crops[True], overlapping)
     assert len(crops[True]) < 15, crops[True]  # of 20 detector frames
+
+
+def test_hdvr_track_zoom_group_turns_the_crop_about_the_group_on(clip, tmp_path, monkeypatch):
+    """``hdvr track --zoom-group`` asks track_video for the crop about the group; it is off by default and with
+    ``--no-zoom``."""
+    import hdvr.tracking.pipeline as pipeline
+    from hdvr.errors import HDVRError
+
+    path, truth = clip
+    asked = []
+
+    def fake_track_video(*args, **kwargs):
+        asked.append(kwargs["zoom_group"])
+        raise HDVRError("stopped by the test")
+
+    monkeypatch.setattr(pipeline, "track_video", fake_track_video)
+    base = ["track", str(path), "--out", str(tmp_path / "o"), "--boxes", _boxes_arg(truth), "--detector", "none"]
+    for extra in ([], ["--zoom-group"], ["--zoom-group", "--no-zoom"]):
+        assert main(base + extra) == 2
+    assert asked == [False, True, False]
