@@ -995,7 +995,8 @@ def test_in_a_group_when_boxes_overlap_or_a_dancer_is_occluded_or_waits():
 
 def test_the_detector_looks_again_at_the_group_only_while_dancers_overlap(tmp_path):
     """With ``zoom_group`` the detector runs again on a crop about the dancers on the detector frames on which their
-    boxes overlap (two figures 130 px tall cross), never on the others; without it, never."""
+    boxes overlap (two figures 130 px tall cross), never on the others; without it, or for a detector that cannot
+    look at crops (precomputed poses), never."""
     from hdvr.tracking.pipeline import track_video
 
     path = tmp_path / "cross.mp4"
@@ -1020,13 +1021,14 @@ def test_the_detector_looks_again_at_the_group_only_while_dancers_overlap(tmp_pa
 
     overlapping = {t for t in range(60) if iou_matrix(truth.boxes[t, :1], truth.boxes[t, 1:])[0, 0] > 0}
     crops = {}
-    for zoom in (True, False):
+    for zoom in (True, False, "no crops"):
         detector = TruthDetector()
+        detector.supports_crops = zoom != "no crops"
         track_video(path, tmp_path / f"out{zoom}", detector=detector, boxes=truth.boxes[0], overlay=False,
-                    write=False, detect_every=3, zoom_hidden=False, zoom_unposed=False, zoom_group=zoom,
+                    write=False, detect_every=3, zoom_hidden=False, zoom_unposed=False, zoom_group=bool(zoom),
                     hindsight=False)
         crops[zoom] = detector.crops
-    assert crops[False] == []
+    assert crops[False] == [] and crops["no crops"] == []
     assert crops[True] and all(t % 3 == 0 for t in crops[True])
     assert set(crops[True]) & overlapping  # asked while they cross
     assert set(crops[True]) <= overlapping | {t + 3 for t in overlapping}, (crops[True], overlapping)

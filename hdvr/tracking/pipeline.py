@@ -420,12 +420,12 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     seen that no whole-frame person lies on (:func:`unposed_dancers`) is looked for again on a crop about its box
     (``UNPOSED_ZOOM_SIDE`` x its height), and what is found there is offered to Algorithm 2* with the frame's people
     (its pose only: the tracker does not adapt its box to these finds); a dancer whose crop gave it no pose is not
-    looked for so again on the next ``UNPOSED_RETRY_AFTER`` detector frames. ``zoom_group`` (off by default; session
-    89 measured it: docs/benchmarks.md "Session 89"): on detector frames on
-    which dancers' boxes overlap, or a dancer is occluded or waits hidden (:func:`in_a_group`), the detector also
-    runs, at its own input size, on a crop about the union of the dancers' boxes (:func:`group_crop`, when that is at
-    most ``GROUP_ZOOM_MAX_FRACTION`` of the frame), and the people it finds there that the whole frame missed join
-    the frame's (:func:`group_zoom_detections`): the tracker uses them as any others. ``zoom_input_size``: the
+    looked for so again on the next ``UNPOSED_RETRY_AFTER`` detector frames. ``zoom_group`` (off by default:
+    docs/benchmarks.md "Session 89"): on detector frames on which dancers' boxes overlap, or a dancer is occluded
+    or waits hidden (:func:`in_a_group`), the detector (not one with ``supports_crops`` False) also runs, at its own
+    input size, on a crop about the union of the dancers' boxes (:func:`group_crop`, when that is at most
+    ``GROUP_ZOOM_MAX_FRACTION`` of the frame), and the people it finds there that the whole frame missed join the
+    frame's (:func:`group_zoom_detections`): the tracker uses them as any others. ``zoom_input_size``: the
     detector's input size (px) on the crops about single dancers, where it can change it (``at_input_size``; None:
     its own). ``hindsight``: once all frames are tracked, fill the boxes of each stretch in which a dancer was
     occluded between where it was seen before and after (:func:`hdvr.tracking.hindsight.fill_occluded`; a
@@ -497,7 +497,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     n = len(boxes)
     selector = PoseSelector(n)
     crops = getattr(detector, "supports_crops", True)  # precomputed poses (OpenPose JSON) cannot look again zoomed in
-    zoom_hidden, zoom_unposed = zoom_hidden and crops, zoom_unposed and crops
+    zoom_hidden, zoom_unposed, zoom_group = zoom_hidden and crops, zoom_unposed and crops, zoom_group and crops
     crop_detector = detector  # the detector on crops about single dancers: smaller input where it allows
     if crops and zoom_input_size and hasattr(detector, "at_input_size"):
         crop_detector = detector.at_input_size(zoom_input_size)
