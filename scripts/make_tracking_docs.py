@@ -433,7 +433,7 @@ def main(argv=None) -> int:
                        for zoom in (False, True)]
             path = args.out / name
             _write_two_runs(path, video, detector, frame_index, gt, tracked,
-                            ("no crop about the group", "crop about the group (default)"))
+                            ("no crop about the group (default)", "crop about the group (--zoom-group)"))
             print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the crop about the "
                   f"group", file=sys.stderr)
         for seed, index, genre, n, name in CORRECTION if args.only in (None, "correction") else ():
