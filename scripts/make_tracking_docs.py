@@ -171,6 +171,13 @@ HINDSIGHT_SETTING_PICTURES = (
     ("partner", PARTNER, "follow_partner",
      ("her own box (follow_partner off)", "carried with his (as written)"), "follow_partner"),
 )
+#: (--only value, cases, the track_video crop option drawn off (left) and on (right), their titles, what it is)
+ZOOM_PICTURES = (
+    ("unposed", UNPOSED, "zoom_unposed", ("no zoom for dancers in view", "pose found zoomed in (as written)"),
+     "the zoom about dancers in view without a detection"),
+    ("group-zoom", GROUP_ZOOM, "zoom_group",
+     ("no crop about the group (default)", "crop about the group (--zoom-group)"), "the crop about the group"),
+)
 COLOURS = [(0, 0, 255), (0, 190, 0), (255, 60, 0), (0, 200, 220)]  # BGR
 
 
@@ -416,26 +423,16 @@ def main(argv=None) -> int:
                 _write_hindsight_setting(path, tmp, detector, (seed, index, genre, n), field, frame_index, titles)
                 print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with {what}",
                       file=sys.stderr)
-        for seed, index, genre, n, frame_index, name in UNPOSED if args.only in (None, "unposed") else ():
-            gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
-            tracked = [track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3,
-                                   overlay=False, write=False, zoom_unposed=zoom).boxes[:, np.argsort(order)]
-                       for zoom in (False, True)]
-            path = args.out / name
-            _write_two_runs(path, video, detector, frame_index, gt, tracked,
-                            ("no zoom for dancers in view", "pose found zoomed in (as written)"))
-            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the zoom about dancers "
-                  f"in view without a detection", file=sys.stderr)
-        for seed, index, genre, n, frame_index, name in GROUP_ZOOM if args.only in (None, "group-zoom") else ():
-            gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
-            tracked = [track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3,
-                                   overlay=False, write=False, zoom_group=zoom).boxes[:, np.argsort(order)]
-                       for zoom in (False, True)]
-            path = args.out / name
-            _write_two_runs(path, video, detector, frame_index, gt, tracked,
-                            ("no crop about the group (default)", "crop about the group (--zoom-group)"))
-            print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with the crop about the "
-                  f"group", file=sys.stderr)
+        for only, cases, option, titles, what in ZOOM_PICTURES:
+            for seed, index, genre, n, frame_index, name in cases if args.only in (None, only) else ():
+                gt, starts, order, video = _render_case(tmp, seed, index, genre, n)
+                tracked = [track_video(video, tmp / "out", detector=detector, starts=starts, detect_every=3,
+                                       overlay=False, write=False, **{option: on}).boxes[:, np.argsort(order)]
+                           for on in (False, True)]
+                path = args.out / name
+                _write_two_runs(path, video, detector, frame_index, gt, tracked, titles)
+                print(f"wrote {path}: seed {seed} {genre}, frame {frame_index}, without and with {what}",
+                      file=sys.stderr)
         for seed, index, genre, n, name in CORRECTION if args.only in (None, "correction") else ():
             frame_index, (t, dancer) = _write_correction(args.out / name, tmp, detector, seed, index, genre, n)
             print(f"wrote {args.out / name}: seed {seed} {genre}, frame {frame_index}, without and with a correction "

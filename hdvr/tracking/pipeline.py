@@ -291,19 +291,31 @@ def zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int,
         x1, y1 = int(min(width, cx + half)), int(min(height, cy + half))
         if x1 - x0 < 32 or y1 - y0 < 32:
             continue
-        for p in detector.detect(np.ascontiguousarray(frame[y0:y1, x0:x1]), frame_index):
-            bx, by, bw, bh = p.box
-            cut = ((bx <= 2 and x0 > 0) or (by <= 2 and y0 > 0) or (bx + bw >= x1 - x0 - 2 and x1 < width)
-                   or (by + bh >= y1 - y0 - 2 and y1 < height))
-            box = (bx + x0, by + y0, bw, bh)
-            core = body_core(box, core_aspect)
-            if cut or any(box_iou(box, q.box) > 0.5 for q in list(people) + found) or \
+        for p in crop_detections(detector, frame, frame_index, (x0, y0, x1, y1)):
+            core = body_core(p.box, core_aspect)
+            if any(box_iou(p.box, q.box) > 0.5 for q in list(people) + found) or \
                     any(box_overlap(core, body_core(o, core_aspect)) > overlap for o in clear_of):
                 continue
-            kp = np.array(p.keypoints, np.float32, copy=True)
-            kp[:, 0] += x0
-            kp[:, 1] += y0
-            found.append(PersonPose(kp, box, p.score, p.joint_names))
+            found.append(replace(p, weak=False))
+    return found
+
+
+def crop_detections(detector: PoseDetector, frame: np.ndarray, frame_index: int, crop) -> list:
+    """The people ``detector`` finds on the crop ``crop`` (x0, y0, x1, y1 px) of ``frame``, box and keypoints in
+    frame pixels, weak finds weak; left out: a person cut by a side of the crop that is not the frame's (a part of
+    someone)."""
+    height, width = frame.shape[:2]
+    x0, y0, x1, y1 = crop
+    found: list = []
+    for p in detector.detect(np.ascontiguousarray(frame[y0:y1, x0:x1]), frame_index):
+        bx, by, bw, bh = p.box
+        if ((bx <= 2 and x0 > 0) or (by <= 2 and y0 > 0) or (bx + bw >= x1 - x0 - 2 and x1 < width)
+                or (by + bh >= y1 - y0 - 2 and y1 < height)):
+            continue
+        kp = np.array(p.keypoints, np.float32, copy=True)
+        kp[:, 0] += x0
+        kp[:, 1] += y0
+        found.append(PersonPose(kp, (bx + x0, by + y0, bw, bh), p.score, p.joint_names, weak=p.weak))
     return found
 
 
@@ -341,21 +353,12 @@ def group_zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index
     behind another; hdvr synth clips of 3-4 dancers, session 89: of 722 dancer-frames at least half visible, the
     whole frame at 480 px found 507, whole frame and crop together 607). Left out: a person that one of ``people``
     (the whole frame's) already covers (IoU > 0.5), and one cut by a side of the crop that is not the frame's (a
-    part of someone). A find the detector calls weak stays weak (:class:`PersonPose` ``weak``)."""
-    height, width = frame.shape[:2]
-    x0, y0, x1, y1 = crop
+    part of someone; :func:`crop_detections`). A find the detector calls weak stays weak (:class:`PersonPose`
+    ``weak``)."""
     found: list = []
-    for p in detector.detect(np.ascontiguousarray(frame[y0:y1, x0:x1]), frame_index):
-        bx, by, bw, bh = p.box
-        cut = ((bx <= 2 and x0 > 0) or (by <= 2 and y0 > 0) or (bx + bw >= x1 - x0 - 2 and x1 < width)
-               or (by + bh >= y1 - y0 - 2 and y1 < height))
-        box = (bx + x0, by + y0, bw, bh)
-        if cut or any(box_iou(box, q.box) > 0.5 for q in list(people) + found):
-            continue
-        kp = np.array(p.keypoints, np.float32, copy=True)
-        kp[:, 0] += x0
-        kp[:, 1] += y0
-        found.append(PersonPose(kp, box, p.score, p.joint_names, weak=p.weak))
+    for p in crop_detections(detector, frame, frame_index, crop):
+        if not any(box_iou(p.box, q.box) > 0.5 for q in list(people) + found):
+            found.append(p)
     return found
 
 
