@@ -552,6 +552,35 @@ def test_a_waiting_dancer_comes_out_on_a_weak_find_on_a_frame_without_a_sure_one
             assert box_iou(waiting.box, person) > 0.8
 
 
+def test_a_zoomed_find_updates_a_followed_dancer_but_lets_no_waiting_dancer_come_out(tmp_path):
+    """``zoomed_detections`` (finds on a crop about a group, :func:`hdvr.tracking.pipeline.group_zoom_detections`)
+    update a followed dancer as weak finds do, but a dancer waiting hidden behind another does not come out on one
+    (session 90: zoomed in, the detector draws a sliver of a dancer peeking out as a person, and she would take its
+    box: hdvr synth seed 3123 flamenco, IDF1 1.000 -> 0.769), while she does on the same box as a weak find."""
+    rng = np.random.default_rng(11)
+    front_box, person = (280.0, 180.0, 120.0, 260.0), (120.0, 120.0, 60.0, 190.0)
+    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
+    frame = two_colour_frame(rng, [(front_box, (green, magenta))])
+    later = two_colour_frame(rng, [(front_box, (green, magenta)), (person, (blue, yellow))])
+    for kind, out in (("weak_detections", True), ("zoomed_detections", False)):
+        tracker = waiting_behind(frame)
+        tracker.step(later, detections=[], **{kind: [person]})
+        assert (tracker.dancers[0].hidden_behind is None) is out, kind
+
+    truth = render_clip(tmp_path / "clip.mp4", frames=3, specs=default_crossing_specs(num_figures=2, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+
+    def height_after(**finds):
+        tracker = MultiDancerTracker(frames[0], truth.boxes[0])
+        tracker.step(frames[1], [tuple(b) for b in truth.boxes[1]])
+        x, y, w, h = tracker.dancers[0].box
+        tracker.step(frames[2], [], **{k: [(x - 4, y - 10, w + 8, h + 20)] for k in finds})
+        return tracker.dancers[0].box[3]
+
+    assert height_after(zoomed_detections=True) == pytest.approx(height_after(weak_detections=True))
+    assert height_after(zoomed_detections=True) > height_after() + 3
+
+
 def test_a_dancer_in_front_of_a_waiting_one_narrows_to_its_narrower_detection():
     """A dancer that started with spread arms (a 145 px box) in front of one waiting hidden behind it brings its arms
     in (its detection 70 px wide): with ``front_narrows`` (the default) its box narrows towards the detection and its

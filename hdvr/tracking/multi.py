@@ -349,13 +349,19 @@ class MultiDancerTracker(DetectionAdaptation, OcclusionHandling, GroupAdaptation
         return [d.box if d.status == TRACKED else self._predicted_box(d, self.frame_index) for d in dancers]
 
     # --------------------------------------------------------------------- step
-    def step(self, frame: np.ndarray, detections=None, weak_detections=None) -> FrameResult:
+    def step(self, frame: np.ndarray, detections=None, weak_detections=None, zoomed_detections=None) -> FrameResult:
         """Track all dancers into the next frame. ``detections``: optional person boxes (x, y, w, h) px in this
         frame, used as extra relocation candidates; ``weak_detections``: boxes the detector is less sure of, used
-        only to update dancers followed (``MultiTrackerConfig.weak_detections``)."""
+        only to update dancers followed and to let a dancer that starts hidden come out
+        (``MultiTrackerConfig.weak_detections``); ``zoomed_detections``: boxes found on a crop about a group of
+        dancers (:func:`hdvr.tracking.pipeline.group_zoom_detections`), used as weak ones but never to let a dancer
+        that starts hidden come out (zoomed in, the detector also draws parts of people: a sliver of a dancer peeking
+        out from behind another would become her whole box)."""
         c = self.config
         # weak detections come second: for a dancer followed that no sure detection updates (as in ByteTrack)
-        weak = list(weak_detections) if detections is not None and weak_detections and c.weak_detections else []
+        use_weak = detections is not None and c.weak_detections
+        emerging = list(weak_detections) if use_weak and weak_detections else []
+        weak = emerging + (list(zoomed_detections) if use_weak and zoomed_detections else [])
         self.frame_index += 1
         t = self.frame_index
         if detections is not None:
@@ -478,8 +484,8 @@ class MultiDancerTracker(DetectionAdaptation, OcclusionHandling, GroupAdaptation
             front_histograms = {}  # shared by both calls: the colours of the boxes of the dancers in front
             if detections:
                 self._emerge(frame, detections, front_histograms)
-            if weak:
-                self._emerge(frame, weak, front_histograms)
+            if emerging:
+                self._emerge(frame, emerging, front_histograms)
         # 3-4. occluded dancers: predict; re-identify any that show clearly again; relocate from the predicted
         # end of the overlap on
         occluded = [d for d in self.dancers if d.status == OCCLUDED]

@@ -353,12 +353,15 @@ def group_zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index
     behind another; hdvr synth clips of 3-4 dancers, session 89: of 722 dancer-frames at least half visible, the
     whole frame at 480 px found 507, whole frame and crop together 607). Left out: a person that one of ``people``
     (the whole frame's) already covers (IoU > 0.5), and one cut by a side of the crop that is not the frame's (a
-    part of someone; :func:`crop_detections`). A find the detector calls weak stays weak (:class:`PersonPose`
-    ``weak``)."""
+    part of someone; :func:`crop_detections`). Every find comes back weak (:class:`PersonPose` ``weak``): zoomed
+    in, the detector also draws parts of dancers as people (session 89: 275 of the 695 finds it added on 41 clips
+    matched no dancer), so a find here only updates a dancer followed (``MultiDancerTracker.step``'s
+    ``zoomed_detections``) and may be chosen as a pose (Algorithm 2*), never finds a lost dancer again nor lets a
+    dancer waiting hidden come out."""
     found: list = []
     for p in crop_detections(detector, frame, frame_index, crop):
         if not any(box_iou(p.box, q.box) > 0.5 for q in list(people) + found):
-            found.append(p)
+            found.append(replace(p, weak=True))
     return found
 
 
@@ -521,14 +524,14 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             # every k-th frame, and the last: the frames after the last k-th one are then interpolated like all
             # others, not left without keypoints (a container that misreports its length only loses that)
             run_detector = detector is not None and (t % detect_every == 0 or t == last)
-            people, weak = [], []
+            people, weak, group_finds = [], [], []
             if run_detector:
                 tic = time.perf_counter()
                 people = detector.detect(frame, t)
                 if zoom_group and tracker is not None and len(tracker.dancers) > 1 and in_a_group(tracker.dancers):
                     crop = group_crop([d.box for d in tracker.dancers if d.status != OUT], info.size)
-                    if crop is not None:
-                        people = people + group_zoom_detections(detector, frame, t, crop, people)
+                    if crop is not None:  # all weak; kept apart from the whole frame's weak finds for the tracker
+                        group_finds = group_zoom_detections(detector, frame, t, crop, people)
                 weak = [p for p in people if p.weak]  # only for updating dancers followed (see MultiTrackerConfig)
                 people = [p for p in people if not p.weak]
                 if zoom_hidden and tracker is not None:
@@ -549,10 +552,12 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
             else:
                 fronts = [d.hidden_behind for d in tracker.dancers]
                 stepped = tracker.step(frame, detections=[p.box for p in people] if run_detector else None,
-                                       weak_detections=[p.box for p in weak] if run_detector else None)
+                                       weak_detections=[p.box for p in weak] if run_detector else None,
+                                       zoomed_detections=[p.box for p in group_finds] if run_detector else None)
                 # waits handed over to another dancer in front (the one in front walked out of their stack)
                 handed = [(k, d.hidden_behind) for k, d in enumerate(tracker.dancers[:len(fronts)])
                           if None not in (d.hidden_behind, fronts[k]) and d.hidden_behind != fronts[k]]
+            weak = weak + group_finds  # from here on (poses, corrections) the crop's finds are weak ones like others
             new_ids = [tracker.add_dancer(frame, s.box, [p.box for p in people] if run_detector else None)
                        for s in starts if s.frame == t]
             for swap in swaps:
