@@ -61,7 +61,8 @@ VARIANTS = (
             "not the patches of the cone search", tracker="relocate_patches=false"),
     Variant("no_velocity", "no velocity memory (stored velocity capped at 0): a hidden dancer is predicted, and "
             "looked for, where it was last seen", tracker="max_speed=0"),
-    Variant("no_zoom", "no detector crops about dancers waiting hidden or seen without a pose", zoom=False),
+    Variant("no_zoom", "no detector crops about dancers waiting hidden or seen without a pose, nor about a group",
+            zoom=False),
     Variant("no_amodal_boxes", "hindsight without the learned whole-body box refiner",
             hindsight_settings=("amodal_boxes=false",)),
     Variant("no_follow_partner", "hindsight without carrying a couple's hidden partner with the dancer in front",
@@ -97,7 +98,8 @@ def _save_seed(job) -> int:
         return 0
     args = argparse.Namespace(keys=",".join(f"{seed}_{i}" for i in todo), seeds=None, clips=None,
                               clips_dir=clips_dir, runs=runs, seconds=4.0, tracker_config=variant.tracker,
-                              detections=work / "detections", no_zoom=not variant.zoom)
+                              detections=work / "detections", no_zoom=not variant.zoom,
+                              zoom_group=variant.zoom)
     save(args)
     return len(todo)
 

@@ -574,16 +574,16 @@ def synth_clip_folder(clips_dir: Path, spec, groups: bool = False) -> Path:
 
 
 def track_synth_clip(clip: Path, out: Path, detector, starts, config=None, hindsight: bool = True,
-                     write: bool = False, zoom: bool = True, zoom_group: bool = False):
+                     write: bool = False, zoom: bool = True, zoom_group: bool = True):
     """``track_video`` on an hdvr synth clip folder as the synth section runs it: from ``starts``
     (:func:`_starts_from_truth`), the detector on every 3rd frame, no overlay nor timeline; with ``write`` the
     outputs of ``hdvr track`` go to ``out`` (with a detections cache there, reused by a second run). ``zoom=False``:
-    no detector crops about waiting or unposed dancers (``hdvr track --no-zoom``); ``zoom_group``: the detector also
-    on a crop about the group of dancers (``hdvr track --zoom-group``)."""
+    no detector crops at all, about waiting or unposed dancers nor about a group (``hdvr track --no-zoom``);
+    ``zoom_group=False``: no crop about the group of dancers (``hdvr track --no-zoom-group``)."""
     return track_video(clip / "video.mp4", out, detector=detector, starts=starts, detect_every=3, overlay=False,
                        write=write, config=config, hindsight=hindsight, timeline=False,
                        detections_cache=out / "detections.npz" if write else None, zoom_hidden=zoom,
-                       zoom_unposed=zoom, zoom_group=zoom_group)
+                       zoom_unposed=zoom, zoom_group=zoom and zoom_group)
 
 
 def _seen_truth(clip: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -619,14 +619,15 @@ ZOOM_CLIPS = ((308, 5), (304, 5), (3070, 0), (2721, 4))  # and two that the crop
 
 def zoom_section(model, tmp, repeats: int = 3, seconds: float = 4.0) -> list[str]:
     """What looking again, zoomed in, for dancers that wait hidden behind another and for dancers in view without a
-    detection costs (``zoom_hidden``, ``zoom_unposed``: both off with ``hdvr track --no-zoom``), and what the crop
-    about the group adds (``zoom_group``, ``hdvr track --zoom-group``): the default, the default with the crop
-    about the group, all off."""
+    detection costs (``zoom_hidden``, ``zoom_unposed``: off with ``hdvr track --no-zoom``), and what the crop about
+    the group adds (``zoom_group``, default since session 90; off with ``hdvr track --no-zoom-group``): the
+    default, the default without the crop about the group, all off."""
     from hdvr.synth.groundtruth import ClipSpec, make_clip
 
     lines = ["### Zoomed-in search for waiting dancers: cost", "",
-             "`track_video(zoom_hidden=True, zoom_unposed=True)` (default: `on`) against the same with "
-             "`zoom_group=True` (`on + group`, `hdvr track --zoom-group`) and all `False` (`off`, `--no-zoom`) on "
+             "`track_video(zoom_hidden=True, zoom_unposed=True, zoom_group=True)` (default: `on`) against the same "
+             "with `zoom_group=False` (`on, no group`, `hdvr track --no-zoom-group`) and all `False` (`off`, "
+             "`--no-zoom`) on "
              "hdvr synth clips where dancers start hidden behind others or dance in a group, 640x480, detector 480 "
              f"px every 3rd frame, no overlay; median of {repeats} runs; IDF1 against the amodal ground truth.", "",
              "| seed | clip | dancers starting hidden | zoom | detect ms/frame | frames/s wall | IDF1 | ID switches |",
@@ -639,7 +640,7 @@ def zoom_section(model, tmp, repeats: int = 3, seconds: float = 4.0) -> list[str
         clip = tmp / f"zoom-{seed}" / spec.name
         gt, _ = _seen_truth(clip)
         order, starts = _starts_from_truth(gt)
-        for zoom, group in ((True, False), (True, True), (False, False)):
+        for zoom, group in ((True, True), (True, False), (False, False)):
             runs = [track_video(clip / "video.mp4", tmp / "zoom-out", detector=detector, starts=starts,
                                 detect_every=3, overlay=False, write=False, zoom_hidden=zoom, zoom_unposed=zoom,
                                 zoom_group=group)
@@ -648,7 +649,7 @@ def zoom_section(model, tmp, repeats: int = 3, seconds: float = 4.0) -> list[str
             s = evaluate_tracking(gt, runs[0].boxes[:, np.argsort(order)])
             detect = 1000 * np.median([r.stage_seconds["detect"] for r in runs]) / frames
             wall = np.median([frames / r.seconds for r in runs])
-            setting = "on + group" if group else "on" if zoom else "off"
+            setting = "on" if group else "on, no group" if zoom else "off"
             lines.append(f"| {seed} | {spec.name} {genre} | {len(runs[0].hidden_starts)} | {setting} "
                          f"| {detect:.1f} | {wall:.1f} | {s.idf1:.3f} | {s.id_switches} |")
             print(lines[-1], file=sys.stderr)

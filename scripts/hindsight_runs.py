@@ -9,7 +9,7 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
 
     # track each clip once (YOLO11n-pose at 480 px every 3rd frame, as the benchmark), hindsight off
     python3 scripts/hindsight_runs.py save --clips-dir CLIPS --seeds 201,202 --runs RUNS \\
-        [--detections DETS] [--tracker-config NAME=VALUE,...] [--zoom-group]
+        [--detections DETS] [--tracker-config NAME=VALUE,...] [--no-zoom-group]
     # or only some clips again, by their runs' names
     python3 scripts/hindsight_runs.py save --clips-dir CLIPS --keys 2624_2,2507_3 --runs RUNS --detections DETS
     # or only those where a dancer starts hidden (in an earlier score file; a rule for such dancers changes no other)
@@ -298,7 +298,7 @@ def save(args) -> int:
         cached = args.detections / f"{seed}_{index}" if args.detections else None  # outputs and detections
         run = track_synth_clip(clip, cached or args.runs / "work", detector, starts, config, hindsight=False,
                                write=cached is not None, zoom=not args.no_zoom,
-                               zoom_group=args.zoom_group)
+                               zoom_group=args.zoom_group and not args.no_zoom)
         save_run(args.runs / f"{seed}_{index}.npz", run, order)
         done += 1
         print(f"\r{done}/{total} clips tracked", end="", file=sys.stderr, flush=True)
@@ -409,9 +409,10 @@ def main(argv=None) -> int:
     sv.add_argument("--detections", type=Path, help="folder keeping each clip's detections (SEED_INDEX/), reused by "
                                                     "later saves")
     sv.add_argument("--no-zoom", action="store_true", help="no detector crops about waiting or unposed dancers "
-                                                           "(hdvr track --no-zoom)")
-    sv.add_argument("--zoom-group", action="store_true", help="the detector also on a crop about the group of "
-                                                              "dancers (hdvr track --zoom-group; session 89)")
+                                                           "nor about a group (hdvr track --no-zoom)")
+    sv.add_argument("--zoom-group", action=argparse.BooleanOptionalAction, default=True,
+                    help="the detector also on a crop about the group of dancers (default, as hdvr track; "
+                         "--no-zoom-group: as hdvr track --no-zoom-group, the default before session 90)")
     sv.set_defaults(func=save)
     sc = sub.add_parser("score", help="score hindsight settings on kept runs")
     sc.add_argument("--clips-dir", type=Path, required=True)

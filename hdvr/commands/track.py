@@ -38,10 +38,10 @@ def register(subparsers) -> None:
                    help="do not run the detector again on a crop about a dancer that waits hidden behind another, "
                         "nor about a dancer in view that the whole frame's detection missed (faster; see "
                         "docs/tracking.md)")
-    p.add_argument("--zoom-group", action="store_true",
-                   help="on detector frames where dancers overlap, also run the detector on a crop about the group "
-                        "(finds dancers the whole frame misses, but also parts of dancers; off by default: see "
-                        "docs/tracking.md)")
+    p.add_argument("--zoom-group", action=argparse.BooleanOptionalAction, default=True,
+                   help="on detector frames where dancers overlap, also run the detector on a crop about the group, "
+                        "whose finds only update dancers followed and give poses (default on; --no-zoom-group "
+                        "turns it off, as --no-zoom does; see docs/tracking.md)")
     p.add_argument("--zoom-size", type=int, default=None, metavar="PX",
                    help="ONNX detectors: longer side of the detector input on those crops in pixels (default 320; "
                         "a crop shows one dancer large already; see docs/tracking.md)")

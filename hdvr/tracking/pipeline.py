@@ -406,7 +406,7 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
                 boxes=None, num_dancers: int | None = None, detect_every: int = 1, overlay: bool = True,
                 max_frames: int | None = None, config: MultiTrackerConfig | None = None,
                 init_seconds: float = 3.0, write: bool = True, starts: list[DancerStart] | None = None,
-                zoom_hidden: bool = True, zoom_unposed: bool = True, zoom_group: bool = False,
+                zoom_hidden: bool = True, zoom_unposed: bool = True, zoom_group: bool = True,
                 zoom_input_size: int | None = ZOOM_INPUT_SIZE,
                 hindsight: bool = True, amodal_boxes: bool = True,
                 amodal_weights: str | os.PathLike | None = None, follow_partner: bool = True,
@@ -426,12 +426,13 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     seen that no whole-frame person lies on (:func:`unposed_dancers`) is looked for again on a crop about its box
     (``UNPOSED_ZOOM_SIDE`` x its height), and what is found there is offered to Algorithm 2* with the frame's people
     (its pose only: the tracker does not adapt its box to these finds); a dancer whose crop gave it no pose is not
-    looked for so again on the next ``UNPOSED_RETRY_AFTER`` detector frames. ``zoom_group`` (off by default:
-    docs/benchmarks.md "Session 89"): on detector frames on which dancers' boxes overlap, or a dancer is occluded
-    or waits hidden (:func:`in_a_group`), the detector (not one with ``supports_crops`` False) also runs, at its own
-    input size, on a crop about the union of the dancers' boxes (:func:`group_crop`, when that is at most
+    looked for so again on the next ``UNPOSED_RETRY_AFTER`` detector frames. ``zoom_group`` (on by default since
+    session 90: docs/benchmarks.md "Session 90"): on detector frames on which dancers' boxes overlap, or a dancer is
+    occluded or waits hidden (:func:`in_a_group`), the detector (not one with ``supports_crops`` False) also runs, at
+    its own input size, on a crop about the union of the dancers' boxes (:func:`group_crop`, when that is at most
     ``GROUP_ZOOM_MAX_FRACTION`` of the frame), and the people it finds there that the whole frame missed join the
-    frame's (:func:`group_zoom_detections`): the tracker uses them as any others. ``zoom_input_size``: the
+    frame's weak finds (:func:`group_zoom_detections`): they update dancers followed and may be chosen as poses,
+    never find a lost dancer again nor let a waiting one come out. ``zoom_input_size``: the
     detector's input size (px) on the crops about single dancers, where it can change it (``at_input_size``; None:
     its own). ``hindsight``: once all frames are tracked, fill the boxes of each stretch in which a dancer was
     occluded between where it was seen before and after (:func:`hdvr.tracking.hindsight.fill_occluded`; a
