@@ -552,21 +552,29 @@ def test_a_waiting_dancer_comes_out_on_a_weak_find_on_a_frame_without_a_sure_one
             assert box_iou(waiting.box, person) > 0.8
 
 
-def test_a_zoomed_find_updates_a_followed_dancer_but_lets_no_waiting_dancer_come_out(tmp_path):
+def test_a_zoomed_find_updates_a_followed_dancer_and_lets_out_only_a_whole_waiting_one(tmp_path, monkeypatch):
     """``zoomed_detections`` (finds on a crop about a group, :func:`hdvr.tracking.pipeline.group_zoom_detections`)
-    update a followed dancer as weak finds do, but a dancer waiting hidden behind another does not come out on one
-    (session 90: zoomed in, the detector draws a sliver of a dancer peeking out as a person, and she would take its
-    box: hdvr synth seed 3123 flamenco, IDF1 1.000 -> 0.769), while she does on the same box as a weak find."""
+    update a followed dancer as weak finds do; of them, only one lying on a waiting dancer's box and at least
+    ``zoomed_emerge_height`` (0.9) of its height is offered to her to come out on (``_emerge``), not a sliver of her
+    (session 90: zoomed in, the detector draws a dancer peeking out as a person, and she would take its box: hdvr
+    synth seed 3123 flamenco, a find 94 px tall on her 141 px box, IDF1 1.000 -> 0.769) nor one elsewhere; a weak
+    find of the whole frame is offered whatever its size."""
     rng = np.random.default_rng(11)
-    front_box, person = (280.0, 180.0, 120.0, 260.0), (120.0, 120.0, 60.0, 190.0)
-    green, magenta, blue, yellow = (60, 170, 80), (170, 40, 170), (200, 90, 30), (40, 200, 220)
-    frame = two_colour_frame(rng, [(front_box, (green, magenta))])
-    later = two_colour_frame(rng, [(front_box, (green, magenta)), (person, (blue, yellow))])
-    for kind, out in (("weak_detections", True), ("zoomed_detections", False)):
-        tracker = waiting_behind(frame)
-        tracker.step(later, detections=[], **{kind: [person]})
-        assert (tracker.dancers[0].hidden_behind is None) is out, kind
+    front_box = (280.0, 180.0, 120.0, 260.0)  # waiting_behind's: dancer 0 waits behind at (300, 100, 60, 200)
+    frame = two_colour_frame(rng, [(front_box, ((60, 170, 80), (170, 40, 170)))])
+    whole, sliver, elsewhere = (298.0, 104.0, 58.0, 190.0), (305.0, 110.0, 20.0, 120.0), (120.0, 120.0, 60.0, 190.0)
+    offered = []
+    monkeypatch.setattr(MultiDancerTracker, "_emerge", lambda self, frame, dets, fronts=None: offered.append(dets))
+    for config, expected in ((None, [[sliver, whole]]), (MultiTrackerConfig(zoomed_emerge_height=10.0), [[sliver]])):
+        offered.clear()
+        waiting_behind(frame, config).step(frame, detections=[], weak_detections=[sliver],
+                                           zoomed_detections=[whole, sliver, elsewhere])
+        assert offered == expected, (config, offered)
 
+
+def test_a_zoomed_find_updates_a_followed_dancer_as_a_weak_one_does(tmp_path):
+    """A find of the crop about a group on a followed dancer that no sure detection updates adapts its box as the
+    same box given as a weak find does."""
     truth = render_clip(tmp_path / "clip.mp4", frames=3, specs=default_crossing_specs(num_figures=2, seed=0))
     frames = list(VideoReader(tmp_path / "clip.mp4"))
 

@@ -214,7 +214,15 @@ class MultiTrackerConfig:
     weak_detections: bool = True  # weak finds (:class:`hdvr.pose2d.base.PersonPose` ``weak``: scored between the
     # detector's weak and sure thresholds, mostly people partly hidden by another) update the boxes of dancers
     # followed, clear or in a group, and let a dancer that starts hidden come out; they never find a lost or occluded
-    # dancer again (re-identification, relocation, re-entry, jumps: there they cost switches, see docs/tracking.md)
+    # dancer again (re-identification, relocation, re-entry, jumps: there they cost switches, see docs/tracking.md).
+    # The finds of the crop about a group (``step``'s ``zoomed_detections``, session 90) are used as weak ones, but
+    # let a dancer that starts hidden come out only as ``zoomed_emerge_height`` allows. False: neither kind is used
+    zoomed_emerge_height: float = 0.9  # a find of the crop about a group lets a dancer waiting hidden come out only
+    # if it lies on her box (intersection over the smaller box above 0.5) and is at least this fraction of its
+    # height: a whole dancer, not a sliver of one peeking out from behind the dancer in front, which the detector,
+    # zoomed in, also draws as a person (hdvr synth seed 3123 flamenco: a find 19 x 94 px on her 141 px tall box, she
+    # came out on it and kept a box that narrow, IDF1 1.000 -> 0.769). Session 90, on session 88's 41 failing clips
+    # and 600 random ones: no such find (infinity) 43 -> 38 failing, 0.9 -> 36, none broken (docs/benchmarks.md)
     reid_from_holder: bool = True  # a detection a tracked dancer holds goes to an occluded dancer whose memory it
     # matches at least ``reid_similarity`` and by ``reid_margin`` better than the holder's, if it stands in front of
     # the holder (bottom ``pixel_front`` lower): the holder's box shows the occluded dancer, come out in front of

@@ -354,14 +354,20 @@ class MultiDancerTracker(DetectionAdaptation, OcclusionHandling, GroupAdaptation
         frame, used as extra relocation candidates; ``weak_detections``: boxes the detector is less sure of, used
         only to update dancers followed and to let a dancer that starts hidden come out
         (``MultiTrackerConfig.weak_detections``); ``zoomed_detections``: boxes found on a crop about a group of
-        dancers (:func:`hdvr.tracking.pipeline.group_zoom_detections`), used as weak ones but never to let a dancer
-        that starts hidden come out (zoomed in, the detector also draws parts of people: a sliver of a dancer peeking
-        out from behind another would become her whole box)."""
+        dancers (:func:`hdvr.tracking.pipeline.group_zoom_detections`), used as weak ones, but to let a dancer that
+        starts hidden come out only when as tall as her box (``MultiTrackerConfig.zoomed_emerge_height``): zoomed
+        in, the detector also draws parts of people, and a sliver of a dancer peeking out from behind another would
+        become her whole box."""
         c = self.config
         # weak detections come second: for a dancer followed that no sure detection updates (as in ByteTrack)
         use_weak = detections is not None and c.weak_detections
         emerging = list(weak_detections) if use_weak and weak_detections else []
-        weak = emerging + (list(zoomed_detections) if use_weak and zoomed_detections else [])
+        zoomed = list(zoomed_detections) if use_weak and zoomed_detections else []
+        waiting = [d.box for d in self.dancers if d.hidden_behind is not None]  # boxes as of the frame before
+        whole = [z for z in zoomed if any(box_overlap(z, w) > 0.5 and z[3] >= c.zoomed_emerge_height * w[3]
+                                          for w in waiting)]
+        emerging += whole
+        weak = emerging + [z for z in zoomed if z not in whole]
         self.frame_index += 1
         t = self.frame_index
         if detections is not None:
