@@ -356,8 +356,8 @@ def group_zoom_detections(detector: PoseDetector, frame: np.ndarray, frame_index
     part of someone; :func:`crop_detections`). Every find comes back weak (:class:`PersonPose` ``weak``): zoomed
     in, the detector also draws parts of dancers as people (session 89: 275 of the 695 finds it added on 41 clips
     matched no dancer), so a find here only updates a dancer followed (``MultiDancerTracker.step``'s
-    ``zoomed_detections``) and may be chosen as a pose (Algorithm 2*), never finds a lost dancer again nor lets a
-    dancer waiting hidden come out."""
+    ``zoomed_detections``) and may be chosen as a pose (Algorithm 2*), never finds a lost dancer again, and lets a
+    dancer waiting hidden come out only when as tall as her box (``MultiTrackerConfig.zoomed_emerge_height``)."""
     found: list = []
     for p in crop_detections(detector, frame, frame_index, crop):
         if not any(box_iou(p.box, q.box) > 0.5 for q in list(people) + found):
@@ -432,7 +432,8 @@ def track_video(video: str | os.PathLike, out_dir: str | os.PathLike, detector: 
     its own input size, on a crop about the union of the dancers' boxes (:func:`group_crop`, when that is at most
     ``GROUP_ZOOM_MAX_FRACTION`` of the frame), and the people it finds there that the whole frame missed join the
     frame's weak finds (:func:`group_zoom_detections`): they update dancers followed and may be chosen as poses,
-    never find a lost dancer again nor let a waiting one come out. ``zoom_input_size``: the
+    never find a lost dancer again, and let a waiting one come out only when as tall as her box
+    (``MultiTrackerConfig.zoomed_emerge_height``). ``zoom_input_size``: the
     detector's input size (px) on the crops about single dancers, where it can change it (``at_input_size``; None:
     its own). ``hindsight``: once all frames are tracked, fill the boxes of each stretch in which a dancer was
     occluded between where it was seen before and after (:func:`hdvr.tracking.hindsight.fill_occluded`; a
