@@ -298,7 +298,7 @@ def save(args) -> int:
         cached = args.detections / f"{seed}_{index}" if args.detections else None  # outputs and detections
         run = track_synth_clip(clip, cached or args.runs / "work", detector, starts, config, hindsight=False,
                                write=cached is not None, zoom=not args.no_zoom,
-                               zoom_group=args.zoom_group and not args.no_zoom)
+                               zoom_group=args.zoom_group)  # --no-zoom turns it off too (track_synth_clip)
         save_run(args.runs / f"{seed}_{index}.npz", run, order)
         done += 1
         print(f"\r{done}/{total} clips tracked", end="", file=sys.stderr, flush=True)

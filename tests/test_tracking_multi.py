@@ -552,9 +552,9 @@ def test_a_waiting_dancer_comes_out_on_a_weak_find_on_a_frame_without_a_sure_one
             assert box_iou(waiting.box, person) > 0.8
 
 
-def test_a_zoomed_find_updates_a_followed_dancer_and_lets_out_only_a_whole_waiting_one(tmp_path, monkeypatch):
-    """``zoomed_detections`` (finds on a crop about a group, :func:`hdvr.tracking.pipeline.group_zoom_detections`)
-    update a followed dancer as weak finds do; of them, only one lying on a waiting dancer's box and at least
+def test_a_zoomed_find_updates_a_followed_dancer_and_lets_out_only_a_whole_waiting_one(monkeypatch):
+    """Of ``zoomed_detections`` (finds on a crop about a group, :func:`hdvr.tracking.pipeline.group_zoom_detections`;
+    that they update a followed dancer is the next test's), only one lying on a waiting dancer's box and at least
     ``zoomed_emerge_height`` (0.9) of its height is offered to her to come out on (``_emerge``), not a sliver of her
     (session 90: zoomed in, the detector draws a dancer peeking out as a person, and she would take its box: hdvr
     synth seed 3123 flamenco, a find 94 px tall on her 141 px box, IDF1 1.000 -> 0.769) nor one elsewhere; a weak
