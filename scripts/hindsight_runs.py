@@ -22,6 +22,9 @@ clip's IDF1 by 0.3: docs/benchmarks.md, session 47). With the default settings t
         [--per-clip-json F.json]
     # where each dancer's box lies below IoU 0.5 with its truth (after hindsight, or --online)
     python3 scripts/hindsight_runs.py stretches --clips-dir CLIPS --runs RUNS [--keys 2844_0,2922_3] [--online]
+    # a picture of some frames of one kept run: each written box (after hindsight, or --online) over its truth
+    python3 scripts/hindsight_runs.py picture --clips-dir CLIPS --runs RUNS --key 3100_0 --frames 30,40,50,70 \\
+        --out 3100_0.png [--online]
     # per status, the dancer-frames hindsight moved off their dancer and onto it; the clips it moved off most
     python3 scripts/hindsight_runs.py harm --clips-dir CLIPS --runs RUNS [--set ...] [--top 20]
 
@@ -362,6 +365,82 @@ def stretches(args) -> int:
     return 0
 
 
+#: colour of the ground-truth boxes in :func:`draw_run_frames` (BGR; the dancers' own colours are
+#: :func:`hdvr.pose2d.draw.dancer_colour`'s, none of them this green)
+TRUTH_COLOUR = (0, 200, 0)
+
+
+def draw_run_frames(frames: dict[int, np.ndarray], boxes: np.ndarray, truth_boxes: np.ndarray, order, status,
+                    title: str = "", columns: int = 2) -> np.ndarray:
+    """One BGR picture of ``frames`` (frame index -> BGR image of the clip), tiled ``columns`` a row in frame
+    order: on each, every ground-truth box of ``truth_boxes`` (T, M, 4) px thin in green, labelled ``T<k>`` below
+    it, and every written box of ``boxes`` (T, N, 4) px thick in its dancer's colour, labelled ``<dancer>-><truth
+    index> <status>`` above it (``order``: written id -> ground-truth index; ``status``: T tuples of N strings),
+    with ``title`` and the frame index in the corner; NaN boxes are left out. To see what :func:`weak_stretches`
+    lists."""
+    import cv2
+
+    from hdvr.pose2d.draw import dancer_colour
+
+    if not frames:
+        raise ValueError("no frames to draw")
+    font = cv2.FONT_HERSHEY_SIMPLEX
+    tiles = []
+    for t in sorted(frames):
+        image = np.ascontiguousarray(frames[t]).copy()
+        for k, g in enumerate(np.asarray(truth_boxes, float)[t]):
+            if np.isfinite(g).all():
+                x, y, w, h = (int(round(v)) for v in g)
+                cv2.rectangle(image, (x, y), (x + w, y + h), TRUTH_COLOUR, 1)
+                cv2.putText(image, f"T{k}", (x, y + h + 12), font, 0.4, TRUTH_COLOUR, 1)
+        for i, b in enumerate(np.asarray(boxes, float)[t]):
+            if np.isfinite(b).all():
+                x, y, w, h = (int(round(v)) for v in b)
+                colour = dancer_colour(i)
+                cv2.rectangle(image, (x, y), (x + w, y + h), colour, 2)
+                cv2.putText(image, f"{i}->{int(order[i])} {status[t][i]}", (x, max(y - 4, 10)), font, 0.45, colour, 1)
+        cv2.putText(image, f"{title} frame {t}".strip(), (6, 16), font, 0.5, (255, 255, 255), 1)
+        tiles.append(image)
+    while len(tiles) % columns:
+        tiles.append(np.zeros_like(tiles[0]))
+    return np.concatenate([np.concatenate(tiles[r:r + columns], axis=1) for r in range(0, len(tiles), columns)])
+
+
+def picture(args) -> int:
+    import cv2
+
+    from hdvr.video import read_frames
+
+    settings = None if args.online else parse_settings(args.set or [])
+    kept = {path.stem: (path, index, clip) for path, _, index, clip in kept_runs(args.clips_dir, args.runs)}
+    if args.key not in kept:
+        raise SystemExit(f"hindsight_runs: no kept run for {args.key} in {args.runs}")
+    path, index, clip = kept[args.key]
+    run = load_run(path)
+    try:
+        wanted = sorted({int(v) for v in args.frames.split(",") if v.strip()})
+    except ValueError:
+        raise SystemExit(f"hindsight_runs: --frames takes comma-separated frame numbers, got {args.frames!r}")
+    count = len(run["status"])
+    if not wanted or wanted[0] < 0 or wanted[-1] >= count:
+        raise SystemExit(f"hindsight_runs: --frames must lie in 0-{count - 1} for {args.key}")
+    suffix = args.out.suffix.lower()
+    if suffix not in (".png", ".jpg", ".jpeg"):
+        raise SystemExit(f"hindsight_runs: --out must end in .png or .jpg, got {args.out.name}")
+    truth_boxes, _ = _seen_truth(clip)
+    frames = dict(read_frames(clip / "video.mp4", wanted))
+    image = draw_run_frames(frames, written_boxes(run, settings), truth_boxes, run["order"], run["status"],
+                            title=f"{args.key} {SYNTH_CLIPS[index][0]}{' online' if args.online else ''}")
+    ok, encoded = cv2.imencode(suffix, image)
+    if not ok:
+        raise SystemExit(f"hindsight_runs: could not encode {args.out.name}")
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    with atomic_path(args.out) as tmp:
+        tmp.write_bytes(encoded.tobytes())
+    print(f"{args.out}: frames {','.join(map(str, wanted))} of {args.key}")
+    return 0
+
+
 def harm(args) -> int:
     settings = parse_settings(args.set or [])
     totals: dict[str, list[int]] = {}
@@ -428,6 +507,16 @@ def main(argv=None) -> int:
     st.add_argument("--set", action="append", metavar="NAME=VALUE", help="a HindsightSettings field (repeatable)")
     st.add_argument("--online", action="store_true", help="the online tracker's boxes, without hindsight")
     st.set_defaults(func=stretches)
+    pc = sub.add_parser("picture", help="draw some frames of one kept run: each written box, coloured by dancer "
+                                        "and labelled with its truth index and status, over the truth's boxes")
+    pc.add_argument("--clips-dir", type=Path, required=True)
+    pc.add_argument("--runs", type=Path, required=True)
+    pc.add_argument("--key", required=True, help="the SEED_INDEX run")
+    pc.add_argument("--frames", required=True, help="comma-separated frame numbers (0-based), two a row")
+    pc.add_argument("--out", type=Path, required=True, help="picture to write (.png or .jpg)")
+    pc.add_argument("--set", action="append", metavar="NAME=VALUE", help="a HindsightSettings field (repeatable)")
+    pc.add_argument("--online", action="store_true", help="the online tracker's boxes, without hindsight")
+    pc.set_defaults(func=picture)
     hm = sub.add_parser("harm", help="count, per status, the dancer-frames hindsight moved off their dancer (IoU 0.5) "
                                      "and onto it, and list the clips it moved off most")
     hm.add_argument("--clips-dir", type=Path, required=True)

@@ -106,6 +106,50 @@ def test_the_frames_hindsight_moves_off_and_onto_their_dancer_are_counted_per_st
     assert "clips whose boxes" not in out  # none moved off
 
 
+def test_a_picture_draws_each_written_box_over_its_truth(tmp_path, capsys):
+    """``draw_run_frames`` tiles the frames asked two a row, each written box in its dancer's colour and each truth
+    box thin in green; the ``picture`` command draws them from the clip's video (after hindsight, or ``--online``)
+    into a PNG, and says so; frames outside the run, a bad list and an unknown run are one-line errors."""
+    import cv2
+
+    from hdvr.pose2d.draw import dancer_colour
+    from hdvr.video import VideoWriter
+
+    script, runs, truth, run = _kept_clip(tmp_path)
+    frames = {t: np.zeros((200, 320, 3), np.uint8) for t in (5, 2, 7)}
+    image = script.draw_run_frames(frames, run["boxes"], truth, run["order"], run["status"], title="7_0")
+    assert image.shape == (400, 640, 3)  # frames 2, 5 | 7, blank
+    # frame 2 (top left): dancer 1's box (200+10, 60, 40, 100) in its colour, its truth beneath it in green
+    assert tuple(image[60 + 50, 210]) == dancer_colour(1)
+    assert tuple(image[60 + 50, 100]) == dancer_colour(0)
+    assert tuple(image[50 + 50, 100]) == dancer_colour(0)  # dancer 0's box lies exactly on its truth
+    # frame 7 (bottom left): dancer 1's held box (at frame 3's place, x 215) drawn apart from its truth (x 235)
+    assert tuple(image[200 + 60 + 50, 215]) == dancer_colour(1)
+    assert tuple(image[200 + 60 + 50, 235]) == script.TRUTH_COLOUR
+    assert not image[200:, 320:].any()  # the tile after the last frame is left blank
+    with pytest.raises(ValueError, match="no frames"):
+        script.draw_run_frames({}, run["boxes"], truth, run["order"], run["status"])
+    clip = tmp_path / "clips" / "synth-7" / "clip_00000"
+    with VideoWriter(clip / "video.mp4", fps=30, size=(320, 200)) as writer:
+        for _ in range(12):
+            writer.write(np.full((200, 320, 3), 90, np.uint8))
+    out = tmp_path / "pictures" / "7_0.png"
+    args = ["picture", "--clips-dir", str(tmp_path / "clips"), "--runs", str(runs), "--key", "7_0"]
+    assert script.main([*args, "--frames", "7,2", "--out", str(out), "--online"]) == 0
+    assert "frames 2,7 of 7_0" in capsys.readouterr().out
+    drawn = cv2.imread(str(out))
+    assert drawn.shape == (200, 640, 3)
+    assert np.abs(drawn[60 + 50, 320 + 215].astype(int) - dancer_colour(1)).max() < 60  # online: the held box
+    for bad, message in ((["--frames", "12", "--out", str(out)], "must lie in 0-11"),
+                         (["--frames", "a,b", "--out", str(out)], "comma-separated frame numbers"),
+                         (["--frames", "1", "--out", str(tmp_path / "x.gif")], "must end in .png or .jpg")):
+        with pytest.raises(SystemExit, match=message):
+            script.main([*args, *bad])
+    with pytest.raises(SystemExit, match="no kept run for 8_1"):
+        script.main(["picture", "--clips-dir", str(tmp_path / "clips"), "--runs", str(runs), "--key", "8_1",
+                     "--frames", "1", "--out", str(out)])
+
+
 def test_settings_are_parsed_with_clear_errors():
     script = load_script("hindsight_runs")
     s = script.parse_settings(["keypoint_reach=0.1", "smooth_window=13"])
