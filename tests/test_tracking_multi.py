@@ -675,6 +675,37 @@ def test_a_dancer_up_from_a_floor_move_narrows_its_wide_low_box(tmp_path):
     assert width_after(columns=True) < 0.75 * floor[2]
 
 
+def test_a_box_grown_too_tall_about_its_detection_takes_its_height_again(tmp_path):
+    """A clear dancer's box grown 1.9 x its detection's height (which lies inside it) fits the detection too loosely
+    to adapt to it (IoU below 0.4, and here the columns beside it never count as empty), and compared raw the heights
+    lie more than ``max_height_change`` (1.6) apart: it would stay that tall. At the height the box implies, over the
+    learned ratio of box to detection (1.3), the detection is hers (1.46 x), so with ``adapt_height_inside`` the
+    box's height moves towards 1.3 x the detection's, its bottom kept (hdvr synth seed 2723 tango, session 91)."""
+    truth = render_clip(tmp_path / "clip.mp4", frames=8, specs=default_crossing_specs(num_figures=1, seed=0))
+    frames = list(VideoReader(tmp_path / "clip.mp4"))
+
+    def height_after(on: bool) -> tuple[float, float]:
+        config = MultiTrackerConfig(adapt_height_inside=on, adapt_max_foreground=-1.0, stuck_persist=0,
+                                    foreground_trim=0.0)
+        tracker = MultiDancerTracker(frames[0], [], config)
+        x, y, w, h = (float(v) for v in truth.boxes[0][0])
+        tracker.add_dancer(frames[0], (x, y - 0.3 * h, w, 1.3 * h), [(x, y, w, h)])
+        dancer = tracker.dancers[0]
+        assert dancer.size_ratio[1] == pytest.approx(1.3)
+        dancer.box = (x - 0.2 * w, y - 0.9 * h, 1.4 * w, 1.9 * h)  # grown too tall, the detection inside
+        detection = tuple(float(v) for v in truth.boxes[1][0])
+        assert box_iou(dancer.box, detection) < 0.4 and box_inside(detection, dancer.box) > 0.9
+        tracker.step(frames[1], [detection])
+        return dancer.box[3], dancer.box[1] + dancer.box[3]
+
+    tall, bottom = height_after(on=False)
+    assert tall == pytest.approx(1.9 * truth.boxes[0][0][3])
+    shrunk, shrunk_bottom = height_after(on=True)
+    a = MultiTrackerConfig().box_adaptation
+    assert shrunk == pytest.approx((1 - a) * tall + a * 1.3 * truth.boxes[1][0][3])
+    assert shrunk_bottom == pytest.approx(bottom)  # its bottom kept where the tracker put the box
+
+
 def test_a_clear_dancer_whose_box_lies_half_off_its_detection_restarts_on_it(tmp_path):
     """A dancer's box left half beside it (as after a floor move or a turn): its detection lies on the box (so it is
     never counted missed) but too far off to adapt it (IoU below ``adapt_min_iou``, not inside it). With

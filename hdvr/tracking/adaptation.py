@@ -72,6 +72,18 @@ class DetectionAdaptation:
         return c.front_of_waiting_clear and o.hidden_behind == d.dancer_id and \
             self._straight_in_front(d, o, c.hidden_start_overlap)
 
+    def _alone_at_implied_height(self, d: DancerTrack, detection) -> bool:
+        """As :meth:`_single_person`, but with ``detection``'s height (px) compared with the detection height that
+        ``d``'s box implies: its height over the learned height ratio of box to detection (``size_ratio``; the box
+        itself while none is learned). A box that grew too tall about its dancer is then still told to be hers."""
+        c = self.config
+        ratio = float(d.size_ratio[1]) if d.size_ratio is not None else 1.0
+        implied = (d.box[0], d.box[1], d.box[2], d.box[3] / ratio)
+        return height_within(detection, implied, c.max_height_change) and \
+            detection[2] <= c.max_person_width * d.box[3] and \
+            all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold for o in self.dancers
+                if o is not d and not self._clear_of_waiting(d, o))
+
     def _person_sized(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
         """Whether ``detection`` (x, y, w, h px) has the size of dancer ``d`` alone: its height within
         ``max_height_change`` (default: the config's) of ``d``'s box height, its width at most ``max_person_width``

@@ -459,6 +459,14 @@ class MultiTrackerConfig:
     # body core overlaps a partner's beside her (tracked, clear of her, not in front, holding a detection of her
     # own) adapts her box's height to it, keeping its bottom and width (:meth:`MultiDancerTracker._beside_partner`).
     # Cached synthetic clips: seed 1207 swing 0.808 -> 0.975, 13 others within 0.021 (docs/tracking.md, session 27)
+    adapt_height_inside: bool = True  # a clear dancer whose one detection lies inside its box (containment above
+    # ``adapt_min_containment``) but fits it too loosely to adapt it (IoU at most ``adapt_min_iou``, columns beside
+    # it not empty: a limb out there) adapts its box's height to it, keeping its bottom and width, when the
+    # detection is hers alone at the height her box implies (:meth:`MultiDancerTracker._alone_at_implied_height`:
+    # the box height over the learned ``size_ratio``). Without it a box grown too tall (a detection drawn over a
+    # flaring skirt) stayed so: its height was compared with the detection's raw, more than ``max_height_change``
+    # apart, and nothing shrank it again (hdvr synth seed 2723 tango: 339 px while the dancer, walking away, was 210;
+    # 0.658 with 2 switches -> 0.742 with none). Session 91, 234 clips (docs/benchmarks.md "Session 91"): 3 changed
     jump_rivals: bool = True  # a lost dancer jumps to a detected person only if it matches its memory by
     # ``reid_margin`` better than every other dancer's (:meth:`MultiDancerTracker._jump_to_detection`); without, a
     # dancer at the back of hdvr synth seed 406 ballet jumped onto a lost dancer passing in front (2 switches)

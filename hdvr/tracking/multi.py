@@ -433,6 +433,11 @@ class MultiDancerTracker(DetectionAdaptation, OcclusionHandling, GroupAdaptation
                         box_iou(d.box, matches[0]) > c.adapt_min_iou and \
                         self._beside_partner(d, matches[0], detections):
                     self._adapt_height(d, matches[0])
+                elif c.adapt_height_inside and len(matches) == 1 and not fronting and \
+                        self._containment(matches[0], d.box) > c.adapt_min_containment and \
+                        self._alone_at_implied_height(d, matches[0]):
+                    self._adapt_height(d, matches[0])  # a box grown too tall about it: the height follows
+                    d.adapted_at = t
                 else:  # a person on the box reaching out of its columns: the box lies off it
                     stuck = len(matches) == 1 and not fronting and self._single_person(d, matches[0]) and \
                         self._containment(matches[0], d.box) <= c.adapt_min_containment
