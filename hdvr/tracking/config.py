@@ -459,16 +459,16 @@ class MultiTrackerConfig:
     # body core overlaps a partner's beside her (tracked, clear of her, not in front, holding a detection of her
     # own) adapts her box's height to it, keeping its bottom and width (:meth:`MultiDancerTracker._beside_partner`).
     # Cached synthetic clips: seed 1207 swing 0.808 -> 0.975, 13 others within 0.021 (docs/tracking.md, session 27)
-    adapt_height_inside: bool = True  # a clear dancer whose one detection lies inside its box (containment above
-    # ``adapt_min_containment``) but fits it too loosely to adapt it (IoU at most ``adapt_min_iou``, columns beside
-    # it not empty: a limb out there) adapts its box's height to it, keeping its bottom and width, when the
+    adapt_height_inside: bool = False  # a clear dancer whose one detection lies inside its box (containment
+    # above ``adapt_min_containment``) but fits it too loosely to adapt it (IoU at most ``adapt_min_iou``, columns
+    # beside it not empty: a limb out there) adapts its box's height to it, keeping its bottom and width, when the
     # detection is hers alone at the height her box implies (:meth:`MultiDancerTracker._alone_at_implied_height`:
-    # the box height over the learned ``size_ratio``). Without it a box grown too tall stayed so: its height was
-    # compared with the detection's raw, more than ``max_height_change`` apart, and nothing shrank it again (hdvr
-    # synth seed 2723 tango: one detection 13 % taller grew the box to 367 px, 1.66 x the next detections; with the
-    # rule it was back to 339 px before the couple met, 0.658 with 2 switches -> 0.742 with none). Session 91
-    # (docs/benchmarks.md "Session 91"): of 294 clips (the 36 failing, 198 random 3-4 dancer and 60 random couple
-    # clips) it changed 3 beyond 0.005 IDF1, mended none and broke none; switches 23 -> 21
+    # the box height over the learned ``size_ratio``). Without it a box grown too tall stays so: its height is
+    # compared with the detection's raw, more than ``max_height_change`` apart (hdvr synth seed 2723 tango: one
+    # detection 13 % taller grew the box to 367 px, 1.66 x the detections after it). Session 91 (docs/benchmarks.md
+    # "Session 91"), with OpenCV 5.0.0.93, on the 36 clips failing in session 90 and 198 random 3-4 dancer clips: 4
+    # changed, none mended or broken, 2723 tango 0.679 -> 0.733 but with 2 switches where it had none (with OpenCV
+    # 5.1 it had taken 2 switches out of that clip). Off: it adds switches on the one failing clip it changes
     jump_rivals: bool = True  # a lost dancer jumps to a detected person only if it matches its memory by
     # ``reid_margin`` better than every other dancer's (:meth:`MultiDancerTracker._jump_to_detection`); without, a
     # dancer at the back of hdvr synth seed 406 ballet jumped onto a lost dancer passing in front (2 switches)
