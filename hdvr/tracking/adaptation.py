@@ -25,13 +25,14 @@ from hdvr.tracking.state import OUT, TRACKED, DancerTrack, box_at, box_centre, s
 class DetectionAdaptation:
     """Dancers' boxes adapted to their detections, and the foreground mask (mixin of the tracker)."""
 
-    def _single_person(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
+    def _single_person(self, d: DancerTrack, detection, max_height_change: float | None = None,
+                       height: float | None = None) -> bool:
         """Whether ``detection`` can be dancer ``d`` alone: its body core overlaps no other dancer's, its height
-        is within ``max_height_change`` (default: the config's) of ``d``'s box height (a box around two people is
-        neither), and it is at most ``max_person_width`` x that height wide (a person's arm span is about their
-        stature; the detector sometimes returns a box across the whole frame)."""
+        is within ``max_height_change`` (default: the config's) of ``d``'s box height, or of ``height`` px if given
+        (a box around two people is neither), and it is at most ``max_person_width`` x the box height wide (a
+        person's arm span is about their stature; the detector sometimes returns a box across the whole frame)."""
         c = self.config
-        return self._person_sized(d, detection, max_height_change) and \
+        return self._person_sized(d, detection, max_height_change, height) and \
             all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold for o in self.dancers
                 if o is not d and not self._clear_of_waiting(d, o))
 
@@ -76,21 +77,19 @@ class DetectionAdaptation:
         """As :meth:`_single_person`, but with ``detection``'s height (px) compared with the detection height that
         ``d``'s box implies: its height over the learned height ratio of box to detection (``size_ratio``; the box
         itself while none is learned). A box that grew too tall about its dancer is then still told to be hers."""
-        c = self.config
         ratio = float(d.size_ratio[1]) if d.size_ratio is not None else 1.0
-        implied = (d.box[0], d.box[1], d.box[2], d.box[3] / ratio)
-        return height_within(detection, implied, c.max_height_change) and \
-            detection[2] <= c.max_person_width * d.box[3] and \
-            all(self._bodies_overlap(detection, o.box) <= c.overlap_threshold for o in self.dancers
-                if o is not d and not self._clear_of_waiting(d, o))
+        return self._single_person(d, detection, height=d.box[3] / ratio)
 
-    def _person_sized(self, d: DancerTrack, detection, max_height_change: float | None = None) -> bool:
+    def _person_sized(self, d: DancerTrack, detection, max_height_change: float | None = None,
+                      height: float | None = None) -> bool:
         """Whether ``detection`` (x, y, w, h px) has the size of dancer ``d`` alone: its height within
-        ``max_height_change`` (default: the config's) of ``d``'s box height, its width at most ``max_person_width``
-        x that height (the size tests of :meth:`_single_person` and :meth:`_beside_partner`)."""
+        ``max_height_change`` (default: the config's) of ``d``'s box height (or of ``height`` px, if given), its
+        width at most ``max_person_width`` x the box height (the size tests of :meth:`_single_person` and
+        :meth:`_beside_partner`)."""
         c = self.config
         change = max_height_change or c.max_height_change
-        return height_within(detection, d.box, change) and detection[2] <= c.max_person_width * d.box[3]
+        reference = d.box if height is None else (0.0, 0.0, 0.0, height)
+        return height_within(detection, reference, change) and detection[2] <= c.max_person_width * d.box[3]
 
     def _beside_partner(self, d: DancerTrack, detection, detections) -> bool:
         """Whether ``detection`` (x, y, w, h px), refused as dancer ``d`` alone because its body core overlaps
